@@ -1,0 +1,267 @@
+/* WireNet: bond_style wirenet. See doc/bond_wirenet.md. */
+
+#include "bond_wirenet.h"
+
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "fix_wirenet_bonds.h"
+#include "force.h"
+#include "memory.h"
+#include "modify.h"
+#include "neighbor.h"
+#include "update.h"
+
+using namespace LAMMPS_NS;
+using namespace WireNet;
+
+static const char HISTORY_FIX_ID[] = "wirenet_bonds";
+
+BondWirenet::BondWirenet(LAMMPS *lmp) : Bond(lmp), list_version(-1), history(NULL) {}
+
+BondWirenet::~BondWirenet()
+{
+  if (allocated) memory->destroy(setflag);
+}
+
+void BondWirenet::allocate()
+{
+  allocated = 1;
+  const int n = atom->nbondtypes;
+  memory->create(setflag, n + 1, "bond:setflag");
+  for (int t = 0; t <= n; t++) setflag[t] = 0;
+  specs.assign(n + 1, BondTypeSpec());
+  wires.resize(n + 1);
+}
+
+void BondWirenet::settings(int narg, char **)
+{
+  if (narg != 0) error->all(FLERR, "bond_style wirenet takes no arguments (laws are set per type with bond_coeff)");
+}
+
+void BondWirenet::set_type(int type, const BondTypeSpec &spec)
+{
+  specs[type] = spec;
+  wires[type].reset(spec.kind == LawKind::WIRE ? new WireLaw(spec.wire) : nullptr);
+  setflag[type] = 1;
+}
+
+void BondWirenet::coeff(int narg, char **arg)
+{
+  if (narg < 2) error->all(FLERR, "bond_coeff for bond_style wirenet: expected 'bond_coeff T wire ...' (see doc/bond_wirenet.md)");
+  if (!allocated) allocate();
+  int ilo, ihi;
+  force->bounds(arg[0], atom->nbondtypes, ilo, ihi);
+  if (ilo < 1 || ihi > atom->nbondtypes || ilo > ihi) {
+    std::string msg = std::string("bond_coeff ") + arg[0] + ": bond type out of range 1.." + std::to_string(atom->nbondtypes);
+    error->all(FLERR, msg.c_str());
+  }
+  std::vector<std::string> args(arg + 1, arg + narg);
+  try {
+    const BondTypeSpec spec = parse_bond_coeff(args);
+    for (int t = ilo; t <= ihi; t++) set_type(t, spec);
+  } catch (const std::invalid_argument &e) {
+    std::string msg = std::string("bond_coeff ") + arg[0] + ": " + e.what();
+    error->all(FLERR, msg.c_str());
+  }
+}
+
+/* ------------------------------------------------------------------------------------------- */
+
+void BondWirenet::init()
+{
+  if (!allocated) error->all(FLERR, "bond_style wirenet: no bond_coeff given (every bond type needs one)");
+  for (int t = 1; t <= atom->nbondtypes; t++)
+    if (!setflag[t]) {
+      std::string msg = "bond_style wirenet: bond type " + std::to_string(t) + " has no bond_coeff";
+      error->all(FLERR, msg.c_str());
+    }
+  Bond::init();
+}
+
+void BondWirenet::init_style()
+{
+  if (!atom->molecular || !atom->radius_flag || !atom->omega_flag || !atom->torque_flag)
+    error->all(FLERR, "bond_style wirenet needs spheres with bonds: use atom_style hybrid granular molecular");
+  if (!force->newton_bond)
+    error->all(FLERR, "bond_style wirenet needs newton_bond on: put 'newton off on' (or 'newton on') before read_data");
+  ensure_history_fix();
+
+  // Ghost atoms must reach across the longest bond at its largest stretch before rupture.
+  double stretch = 1.0;
+  for (int t = 1; t <= atom->nbondtypes; t++)
+    if (wires[t]) stretch = fmax(stretch, wires[t]->max_stretch());
+  const double lmax = history->max_bond_length_global();
+  history->set_ghost_extent(lmax * stretch);
+  if (comm->me == 0) report_types();
+}
+
+void BondWirenet::ensure_history_fix()
+{
+  int ifix = modify->find_fix(HISTORY_FIX_ID);
+  if (ifix < 0) {
+    char id[] = "wirenet_bonds", group[] = "all", style[] = "wirenet/bonds";
+    char *args[3] = { id, group, style };
+    modify->add_fix(3, args);
+    ifix = modify->find_fix(HISTORY_FIX_ID);
+  }
+  history = dynamic_cast<FixWirenetBonds *>(modify->fix[ifix]);
+  if (!history) error->all(FLERR, "bond_style wirenet: fix ID wirenet_bonds is taken by another fix style; rename that fix");
+  list_version = -1;
+}
+
+void BondWirenet::report_types()
+{
+  for (int t = 1; t <= atom->nbondtypes; t++) {
+    char line[256];
+    const BondTypeSpec &s = specs[t];
+    if (s.kind == LawKind::WIRE) {
+      const WireLaw &w = *wires[t];
+      snprintf(line, sizeof(line),
+               "bond_style wirenet: type %d wire (%s): d = %g m, A = %g m^2, %zu curve points, rupture strain %g%s%s\n",
+               t, s.family.c_str(), s.wire.diameter, w.area(), s.wire.strain.size(), s.wire.strain.back(),
+               s.wire.derived ? ", derived double twist" : "", s.wire.slack ? ", random slack" : "");
+    }
+    if (screen) fputs(line, screen);
+    if (logfile) fputs(line, logfile);
+  }
+}
+
+/* ------------------------------------------------------------------------------------------- */
+
+void BondWirenet::build_list()
+{
+  list.clear();
+  const int nlocal = atom->nlocal;
+  const int *num_bond = atom->num_bond;
+  int **bond_atom = atom->bond_atom;
+  int **bond_type = atom->bond_type;
+  for (int i = 0; i < nlocal; i++)
+    for (int m = 0; m < num_bond[i]; m++) {
+      const int type = bond_type[i][m];
+      if (type <= 0) continue;
+      const int j = domain->closest_image(i, atom->map(bond_atom[i][m]));
+      Entry e = { i, j, type, m, history->record(i, m) };
+      list.push_back(e);
+    }
+  list_version = history->list_version();
+}
+
+void BondWirenet::init_record(const Entry &e, double length)
+{
+  if (length <= 0.0) {
+    char msg[256];
+    snprintf(msg, sizeof(msg), "bond_style wirenet: bond %d-%d has zero length (two nodes at one point)",
+             atom->tag[e.i], atom->tag[e.j]);
+    error->one(FLERR, msg);
+  }
+  wires[e.type]->init_bond(e.h, length, atom->tag[e.i], atom->tag[e.j]);
+}
+
+void BondWirenet::compute(int eflag, int vflag)
+{
+  if (eflag || vflag) ev_setup(eflag, vflag);
+  else evflag = 0;
+  if (history->list_version() != list_version) build_list();
+
+  double **x = atom->x;
+  double **f = atom->f;
+  const int nlocal = atom->nlocal;
+  const int newton_bond = force->newton_bond;
+
+  for (const Entry &e : list) {
+    double *h = e.h;
+    if (h[FixWirenetBonds::L0] < 0.0) continue;  // broken earlier, awaiting removal
+    const double dx = x[e.j][0] - x[e.i][0];
+    const double dy = x[e.j][1] - x[e.i][1];
+    const double dz = x[e.j][2] - x[e.i][2];
+    const double r = sqrt(dx * dx + dy * dy + dz * dz);
+    if (h[FixWirenetBonds::L0] == 0.0) init_record(e, r);
+
+    const WireLaw &law = *wires[e.type];
+    const double u = r - h[W_L0];
+    double tension;
+    if (!law.tension(u, h, tension)) {
+      const double mid[3] = { x[e.i][0] + 0.5 * dx, x[e.i][1] + 0.5 * dy, x[e.i][2] + 0.5 * dz };
+      history->break_bond(e.i, e.m, mid, u);
+      continue;
+    }
+    if (tension == 0.0) continue;
+    const double fr = tension / r;
+    f[e.i][0] += fr * dx; f[e.i][1] += fr * dy; f[e.i][2] += fr * dz;
+    f[e.j][0] -= fr * dx; f[e.j][1] -= fr * dy; f[e.j][2] -= fr * dz;
+    if (evflag) {
+      // recoverable elastic energy of the unloading branch
+      const double ebond = eflag ? 0.5 * tension * tension / h[W_KU] : 0.0;
+      ev_tally(e.i, e.j, nlocal, newton_bond, ebond, -fr, -dx, -dy, -dz);
+    }
+  }
+}
+
+bool BondWirenet::bond_state(int i, int m, int j, BondState &s) const
+{
+  const double *h = history ? const_cast<FixWirenetBonds *>(history)->record(i, m) : NULL;
+  const int type = atom->bond_type[i][m];
+  if (!h || type <= 0 || h[FixWirenetBonds::L0] <= 0.0) return false;
+  double **x = atom->x;
+  const double d[3] = { x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2] };
+  s.length = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  s.length0 = h[FixWirenetBonds::L0];
+  s.tension = wires[type] ? wires[type]->tension_const(s.length - s.length0, h) : 0.0;
+  s.shear = s.moment = 0.0;
+  return true;
+}
+
+double BondWirenet::single(int, double, int, int, double &fforce)
+{
+  // The force depends on per-bond history that single() cannot reach: use compute wirenet/local.
+  fforce = 0.0;
+  return 0.0;
+}
+
+/* ------------------------------------------------------------------------------------------- */
+
+void BondWirenet::write_restart(FILE *fp)
+{
+  for (int t = 1; t <= atom->nbondtypes; t++) {
+    const std::vector<double> v = specs[t].serialize();
+    const int n = (int)v.size(), nf = (int)specs[t].family.size();
+    fwrite(&n, sizeof(int), 1, fp);
+    fwrite(v.data(), sizeof(double), n, fp);
+    fwrite(&nf, sizeof(int), 1, fp);
+    fwrite(specs[t].family.data(), 1, nf, fp);
+  }
+}
+
+void BondWirenet::read_restart(FILE *fp)
+{
+  allocate();
+  for (int t = 1; t <= atom->nbondtypes; t++) {
+    int n = 0, nf = 0;
+    if (comm->me == 0 && fread(&n, sizeof(int), 1, fp) != 1) error->one(FLERR, "bond_style wirenet: truncated restart file");
+    MPI_Bcast(&n, 1, MPI_INT, 0, world);
+    std::vector<double> v(n);
+    if (comm->me == 0 && fread(v.data(), sizeof(double), n, fp) != (size_t)n) error->one(FLERR, "bond_style wirenet: truncated restart file");
+    MPI_Bcast(v.data(), n, MPI_DOUBLE, 0, world);
+    if (comm->me == 0 && fread(&nf, sizeof(int), 1, fp) != 1) error->one(FLERR, "bond_style wirenet: truncated restart file");
+    MPI_Bcast(&nf, 1, MPI_INT, 0, world);
+    std::string family(nf, ' ');
+    if (comm->me == 0 && nf && fread(&family[0], 1, nf, fp) != (size_t)nf) error->one(FLERR, "bond_style wirenet: truncated restart file");
+    MPI_Bcast(&family[0], nf, MPI_CHAR, 0, world);
+    try {
+      set_type(t, BondTypeSpec::deserialize(v, family));
+    } catch (const std::exception &e) {
+      error->all(FLERR, "bond_style wirenet: corrupt bond coefficients in the restart file");
+    }
+  }
+}
+
+double BondWirenet::memory_usage()
+{
+  return Bond::memory_usage() + (double)list.capacity() * sizeof(Entry);
+}

@@ -1,0 +1,64 @@
+/* WireNet: bond_style wirenet, remote bonds between the node spheres of a wire net.
+   Laws per bond type: `wire` (tension-only elasto-plastic). See doc/bond_wirenet.md. */
+
+#ifdef BOND_CLASS
+
+BondStyle(wirenet,BondWirenet)
+
+#else
+
+#ifndef LMP_BOND_WIRENET_H
+#define LMP_BOND_WIRENET_H
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bond.h"
+#include "wirenet_bond_coeff.h"
+#include "wirenet_wire_law.h"
+
+namespace LAMMPS_NS {
+
+class BondWirenet : public Bond {
+ public:
+  BondWirenet(class LAMMPS *);
+  ~BondWirenet();
+  void init();
+  void init_style();
+  void compute(int, int);
+  void settings(int, char **);
+  void coeff(int, char **);
+  double equilibrium_distance(int) { return 0.0; }
+  void write_restart(FILE *);
+  void read_restart(FILE *);
+  double single(int, double, int, int, double &);
+  double memory_usage();
+
+  // Output of one bond (i local, slot m, partner j): false if it is broken or not initialised.
+  struct BondState { double length0, length, tension, shear, moment; };
+  bool bond_state(int i, int m, int j, BondState &s) const;
+  const std::string &family(int type) const { return specs[type].family; }
+
+ private:
+  // one entry per intact local bond, rebuilt whenever atoms or bond slots change
+  struct Entry { int i, j, type, m; double *h; };
+  std::vector<Entry> list;
+  long list_version;
+  class FixWirenetBonds *history;
+
+  std::vector<WireNet::BondTypeSpec> specs;                 // [type]
+  std::vector<std::unique_ptr<WireNet::WireLaw>> wires;     // [type], null if not a wire
+
+  void allocate();
+  void set_type(int type, const WireNet::BondTypeSpec &spec);
+  void build_list();
+  void init_record(const Entry &e, double length);
+  void ensure_history_fix();
+  void report_types();
+};
+
+}
+
+#endif
+#endif

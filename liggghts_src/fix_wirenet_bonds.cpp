@@ -1,0 +1,345 @@
+/* WireNet: per-bond history and node orientations for bond_style wirenet.
+
+   Each atom carries one history record per bond slot, aligned with atom->bond_atom[i][m], so the
+   records travel with the bonds they belong to (exchange, sort, restart). A bond that ruptures is
+   flagged in its record and removed from the atom's bond list at the next exchange, when the bond
+   style's list is rebuilt anyway. */
+
+#include "fix_wirenet_bonds.h"
+
+#include <cmath>
+#include <cstring>
+#include <unordered_map>
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "force.h"
+#include "memory.h"
+#include "update.h"
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+
+static const int RUPTURE_COLS = 8;
+
+FixWirenetBonds::FixWirenetBonds(LAMMPS *lmp, int narg, char **arg) :
+  Fix(lmp, narg, arg),
+  hist(NULL), quat(NULL), orient_flag(0), version(0), ghost_extent(0.0),
+  nbroken_total(0), nbroken_pending(0), maxlocal(0)
+{
+  if (narg != 3) error->all(FLERR, "fix wirenet/bonds takes no arguments (it is created by bond_style wirenet)");
+  if (!atom->molecular) error->all(FLERR, "fix wirenet/bonds needs an atom style with bonds");
+
+  restart_global = 1;
+  restart_peratom = 1;
+  // Not create_attribute: LIGGGHTS' Modify::setup() would then re-initialise every atom of a new
+  // fix after the setup force pass, wiping the initial lengths just taken. Atoms present now are
+  // initialised here; nets gain no bonded atoms during a run.
+  create_attribute = 0;
+  scalar_flag = 1;
+  extscalar = 0;
+  global_freq = 1;
+  local_flag = 1;
+  size_local_cols = RUPTURE_COLS;
+  size_local_rows = 0;
+  array_local = NULL;
+  comm_forward = 4;
+
+  nslots = atom->bond_per_atom;
+  grow_arrays(atom->nmax);
+  atom->add_callback(0);
+  atom->add_callback(1);
+  for (int i = 0; i < atom->nlocal; i++) reset_atom(i);
+}
+
+FixWirenetBonds::~FixWirenetBonds()
+{
+  atom->delete_callback(id, 0);
+  atom->delete_callback(id, 1);
+  memory->destroy(hist);
+  memory->destroy(quat);
+  memory->destroy(array_local);
+}
+
+int FixWirenetBonds::setmask()
+{
+  return PRE_EXCHANGE | PRE_NEIGHBOR | PRE_FORCE | POST_INTEGRATE | POST_RUN;
+}
+
+void FixWirenetBonds::init()
+{
+  if (atom->bond_per_atom != nslots)
+    error->all(FLERR, "bond_style wirenet: bonds per atom changed after the bond history was created "
+                      "(adding bonds after a run is not supported)");
+}
+
+/* ------------------------------------------------------------------------------------------- */
+
+void FixWirenetBonds::reset_atom(int i)
+{
+  if (nslots) memset(hist[i], 0, sizeof(double) * nslots * NHIST);
+  quat[i][0] = 1.0;
+  quat[i][1] = quat[i][2] = quat[i][3] = 0.0;
+}
+
+void FixWirenetBonds::grow_arrays(int nmax)
+{
+  memory->grow(hist, nmax, nslots > 0 ? nslots * NHIST : 1, "wirenet/bonds:hist");
+  memory->grow(quat, nmax, 4, "wirenet/bonds:quat");
+}
+
+void FixWirenetBonds::copy_arrays(int i, int j, int)
+{
+  if (nslots) memcpy(hist[j], hist[i], sizeof(double) * nslots * NHIST);
+  memcpy(quat[j], quat[i], sizeof(double) * 4);
+}
+
+int FixWirenetBonds::pack_exchange(int i, double *buf)
+{
+  int m = 0;
+  for (int k = 0; k < nslots * NHIST; k++) buf[m++] = hist[i][k];
+  for (int k = 0; k < 4; k++) buf[m++] = quat[i][k];
+  return m;
+}
+
+int FixWirenetBonds::unpack_exchange(int i, double *buf)
+{
+  int m = 0;
+  for (int k = 0; k < nslots * NHIST; k++) hist[i][k] = buf[m++];
+  for (int k = 0; k < 4; k++) quat[i][k] = buf[m++];
+  return m;
+}
+
+int FixWirenetBonds::pack_restart(int i, double *buf)
+{
+  int m = 1;
+  for (int k = 0; k < nslots * NHIST; k++) buf[m++] = hist[i][k];
+  for (int k = 0; k < 4; k++) buf[m++] = quat[i][k];
+  buf[0] = m;
+  return m;
+}
+
+void FixWirenetBonds::unpack_restart(int nlocal, int nth)
+{
+  double **extra = atom->extra;
+  int m = 0;
+  for (int k = 0; k < nth; k++) m += static_cast<int>(extra[nlocal][m]);
+  if (static_cast<int>(extra[nlocal][m]) != maxsize_restart())
+    error->one(FLERR, "bond_style wirenet: the restart file's bond history does not match the bonds per atom");
+  m++;
+  for (int k = 0; k < nslots * NHIST; k++) hist[nlocal][k] = extra[nlocal][m++];
+  for (int k = 0; k < 4; k++) quat[nlocal][k] = extra[nlocal][m++];
+}
+
+int FixWirenetBonds::size_restart(int) { return maxsize_restart(); }
+int FixWirenetBonds::maxsize_restart() { return 1 + nslots * NHIST + 4; }
+
+int FixWirenetBonds::pack_comm(int n, int *list, double *buf, int, int *)
+{
+  int m = 0;
+  for (int k = 0; k < n; k++) {
+    const double *q = quat[list[k]];
+    buf[m++] = q[0]; buf[m++] = q[1]; buf[m++] = q[2]; buf[m++] = q[3];
+  }
+  return 4;  // values per atom (LIGGGHTS' forward_comm_fix convention)
+}
+
+void FixWirenetBonds::unpack_comm(int n, int first, double *buf)
+{
+  int m = 0;
+  for (int i = first; i < first + n; i++) {
+    quat[i][0] = buf[m++]; quat[i][1] = buf[m++]; quat[i][2] = buf[m++]; quat[i][3] = buf[m++];
+  }
+}
+
+void FixWirenetBonds::write_restart(FILE *fp)
+{
+  if (comm->me != 0) return;
+  double list[1] = { (double)nbroken_total };
+  int n = 1;
+  fwrite(&n, sizeof(int), 1, fp);
+  fwrite(list, sizeof(double), n, fp);
+}
+
+void FixWirenetBonds::restart(char *buf)
+{
+  nbroken_total = (bigint)((double *)buf)[0];
+}
+
+/* ------------------------------------------------------------------------------------------- */
+
+void FixWirenetBonds::break_bond(int i, int m, const double *mid, double elongation)
+{
+  hist[i][m * NHIST + L0] = -1.0;
+  nbroken_pending++;
+  Rupture r;
+  r.step = update->ntimestep;
+  r.tag1 = atom->tag[i];
+  r.tag2 = atom->bond_atom[i][m];
+  r.type = atom->bond_type[i][m];
+  r.x[0] = mid[0]; r.x[1] = mid[1]; r.x[2] = mid[2];
+  r.elongation = elongation;
+  ruptures.push_back(r);
+  refresh_local_array();
+}
+
+void FixWirenetBonds::refresh_local_array()
+{
+  const int n = (int)ruptures.size();
+  if (n > maxlocal) {
+    maxlocal = n + 64;
+    memory->destroy(array_local);
+    memory->create(array_local, maxlocal, RUPTURE_COLS, "wirenet/bonds:ruptures");
+  }
+  for (int k = 0; k < n; k++) {
+    const Rupture &r = ruptures[k];
+    double *row = array_local[k];
+    row[0] = r.step; row[1] = r.tag1; row[2] = r.tag2; row[3] = r.type;
+    row[4] = r.x[0]; row[5] = r.x[1]; row[6] = r.x[2]; row[7] = r.elongation;
+  }
+  size_local_rows = n;
+}
+
+// Remove flagged bonds from the owning atoms, keeping bond slots and history records aligned.
+void FixWirenetBonds::remove_broken_bonds()
+{
+  int removed = 0;
+  if (nbroken_pending) {
+    int *num_bond = atom->num_bond;
+    int **bond_type = atom->bond_type;
+    int **bond_atom = atom->bond_atom;
+    for (int i = 0; i < atom->nlocal; i++) {
+      for (int m = 0; m < num_bond[i];) {
+        if (hist[i][m * NHIST + L0] >= 0.0) { m++; continue; }
+        const int last = num_bond[i] - 1;
+        bond_type[i][m] = bond_type[i][last];
+        bond_atom[i][m] = bond_atom[i][last];
+        memcpy(&hist[i][m * NHIST], &hist[i][last * NHIST], sizeof(double) * NHIST);
+        memset(&hist[i][last * NHIST], 0, sizeof(double) * NHIST);
+        num_bond[i]--;
+        removed++;
+      }
+    }
+    nbroken_pending = 0;
+  }
+  int all = 0;
+  MPI_Allreduce(&removed, &all, 1, MPI_INT, MPI_SUM, world);
+  if (all) {
+    atom->nbonds -= all;
+    nbroken_total += all;
+    version++;
+  }
+}
+
+void FixWirenetBonds::setup_pre_exchange() { remove_broken_bonds(); }
+void FixWirenetBonds::pre_exchange() { remove_broken_bonds(); }
+void FixWirenetBonds::post_run() { remove_broken_bonds(); }
+
+double FixWirenetBonds::compute_scalar()
+{
+  int pending = nbroken_pending, all = 0;
+  MPI_Allreduce(&pending, &all, 1, MPI_INT, MPI_SUM, world);
+  return (double)(nbroken_total + all);
+}
+
+/* ------------------------------------------------------------------------------------------- */
+
+// A bond partner must be a local or ghost atom; name the setting to raise instead of LIGGGHTS'
+// generic "Bond atoms missing".
+void FixWirenetBonds::check_partners_present()
+{
+  const int *num_bond = atom->num_bond;
+  int **bond_atom = atom->bond_atom;
+  for (int i = 0; i < atom->nlocal; i++)
+    for (int m = 0; m < num_bond[i]; m++)
+      if (atom->map(bond_atom[i][m]) < 0) {
+        char msg[512];
+        snprintf(msg, sizeof(msg),
+                 "bond_style wirenet: bond %d-%d is longer than the ghost cutoff %g at step " BIGINT_FORMAT
+                 " (raise it with comm_modify cutoff, e.g. to twice the longest bond)",
+                 atom->tag[i], bond_atom[i][m], comm->cutghostuser > 0 ? comm->cutghostuser : ghost_extent,
+                 update->ntimestep);
+        error->one(FLERR, msg);
+      }
+}
+
+void FixWirenetBonds::setup_pre_neighbor() { check_partners_present(); version++; }
+void FixWirenetBonds::pre_neighbor() { check_partners_present(); version++; }
+
+double FixWirenetBonds::extend_cut_ghost() { return ghost_extent; }
+
+double FixWirenetBonds::max_bond_length_global()
+{
+  // Gather every atom's position once: bonds may span ranks before any ghost exists.
+  const int nlocal = atom->nlocal;
+  std::vector<double> mine(4 * nlocal);
+  for (int i = 0; i < nlocal; i++) {
+    mine[4 * i] = atom->tag[i];
+    for (int d = 0; d < 3; d++) mine[4 * i + 1 + d] = atom->x[i][d];
+  }
+  int nprocs = comm->nprocs, count = 4 * nlocal;
+  std::vector<int> counts(nprocs), displs(nprocs, 0);
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
+  for (int p = 1; p < nprocs; p++) displs[p] = displs[p - 1] + counts[p - 1];
+  std::vector<double> all(displs[nprocs - 1] + counts[nprocs - 1]);
+  MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, world);
+  std::unordered_map<long, const double *> where;
+  where.reserve(all.size() / 4);
+  for (size_t k = 0; k < all.size(); k += 4) where[(long)all[k]] = &all[k + 1];
+
+  double lmax = 0.0;
+  for (int i = 0; i < nlocal; i++)
+    for (int m = 0; m < atom->num_bond[i]; m++) {
+      auto it = where.find(atom->bond_atom[i][m]);
+      if (it == where.end()) {
+        char msg[256];
+        snprintf(msg, sizeof(msg), "bond_style wirenet: bond %d-%d names atom %d, which does not exist",
+                 atom->tag[i], atom->bond_atom[i][m], atom->bond_atom[i][m]);
+        error->one(FLERR, msg);
+      }
+      double d[3] = { it->second[0] - atom->x[i][0], it->second[1] - atom->x[i][1], it->second[2] - atom->x[i][2] };
+      domain->minimum_image(d);
+      lmax = fmax(lmax, sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+    }
+  double gmax = 0.0;
+  MPI_Allreduce(&lmax, &gmax, 1, MPI_DOUBLE, MPI_MAX, world);
+  return gmax;
+}
+
+/* ------------------------------------------------------------------------------------------- */
+
+// Advance node orientations with the half-step angular velocity: an exact rotation by
+// |omega| dt about omega, so the beam law sees the rigid rotation without drift.
+void FixWirenetBonds::post_integrate()
+{
+  if (!orient_flag) return;
+  const double dt = update->dt;
+  double **omega = atom->omega;
+  for (int i = 0; i < atom->nlocal; i++) {
+    const double *w = omega[i];
+    const double wn = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    if (wn == 0.0) continue;
+    const double half = 0.5 * wn * dt;
+    const double s = sin(half) / wn, c = cos(half);
+    const double r[4] = { c, s * w[0], s * w[1], s * w[2] };
+    double *q = quat[i];
+    const double q0 = q[0], q1 = q[1], q2 = q[2], q3 = q[3];
+    q[0] = r[0] * q0 - r[1] * q1 - r[2] * q2 - r[3] * q3;
+    q[1] = r[0] * q1 + r[1] * q0 + r[2] * q3 - r[3] * q2;
+    q[2] = r[0] * q2 - r[1] * q3 + r[2] * q0 + r[3] * q1;
+    q[3] = r[0] * q3 + r[1] * q2 - r[2] * q1 + r[3] * q0;
+    const double inv = 1.0 / sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    for (int k = 0; k < 4; k++) q[k] *= inv;
+  }
+}
+
+void FixWirenetBonds::setup_pre_force(int) { if (orient_flag) comm->forward_comm_fix(this); }
+void FixWirenetBonds::pre_force(int) { if (orient_flag) comm->forward_comm_fix(this); }
+
+double FixWirenetBonds::memory_usage()
+{
+  return (double)atom->nmax * (nslots * NHIST + 4) * sizeof(double) +
+         (double)maxlocal * RUPTURE_COLS * sizeof(double);
+}

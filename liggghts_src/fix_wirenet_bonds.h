@@ -1,0 +1,89 @@
+/* WireNet: per-bond history and node orientations for bond_style wirenet.
+   Created by the bond style itself (ID wirenet_bonds); see doc/fix_wirenet_bonds.md. */
+
+#ifdef FIX_CLASS
+
+FixStyle(wirenet/bonds,FixWirenetBonds)
+
+#else
+
+#ifndef LMP_FIX_WIRENET_BONDS_H
+#define LMP_FIX_WIRENET_BONDS_H
+
+#include "fix.h"
+#include <vector>
+
+namespace LAMMPS_NS {
+
+class FixWirenetBonds : public Fix {
+ public:
+  // doubles per bond slot (the largest law record: the beam's)
+  static const int NHIST = 13;
+  // slot 0 of every record is the initial length: 0 = not initialised yet, < 0 = broken
+  static const int L0 = 0;
+
+  FixWirenetBonds(class LAMMPS *, int, char **);
+  ~FixWirenetBonds();
+  int setmask();
+  void init();
+  void setup_pre_exchange();
+  void pre_exchange();
+  void setup_pre_neighbor();
+  void pre_neighbor();
+  void setup_pre_force(int);
+  void pre_force(int);
+  void post_integrate();
+  void post_run();
+  double compute_scalar();
+  double extend_cut_ghost();
+
+  void grow_arrays(int);
+  void copy_arrays(int, int, int);
+  int pack_exchange(int, double *);
+  int unpack_exchange(int, double *);
+  int pack_restart(int, double *);
+  void unpack_restart(int, int);
+  int size_restart(int);
+  int maxsize_restart();
+  int pack_comm(int, int *, double *, int, int *);
+  void unpack_comm(int, int, double *);
+  void write_restart(FILE *);
+  void restart(char *);
+  double memory_usage();
+
+  // --- interface for bond_style wirenet ---
+  double *record(int i, int m) { return hist[i] + m * NHIST; }
+  const double *orientation(int i) const { return quat[i]; }
+  // bumped whenever local atom indices or bond slots may have changed
+  long list_version() const { return version; }
+  void use_orientations() { orient_flag = 1; }
+  void set_ghost_extent(double cut) { ghost_extent = cut; }
+  // flag the bond (i, slot m) as broken; it leaves the atom's bond list at the next exchange
+  void break_bond(int i, int m, const double *mid, double elongation);
+  // largest current length of any bond (collective; before ghosts exist, by gathering positions)
+  double max_bond_length_global();
+
+ private:
+  int nslots;        // bond slots per atom (atom->bond_per_atom when created)
+  double **hist;     // [nmax][nslots * NHIST]
+  double **quat;     // [nmax][4] node orientation (w, x, y, z), space frame
+  int orient_flag;
+  long version;
+  double ghost_extent;
+  bigint nbroken_total;  // all ranks, since the bonds were created (restarted)
+  int nbroken_pending;   // flagged on this rank, not yet removed from the bond lists
+
+  struct Rupture { bigint step; int tag1, tag2, type; double x[3], elongation; };
+  std::vector<Rupture> ruptures;  // this rank's ruptures, for dump local
+  int maxlocal;
+
+  void reset_atom(int);
+  void remove_broken_bonds();
+  void check_partners_present();
+  void refresh_local_array();
+};
+
+}
+
+#endif
+#endif

@@ -1,0 +1,109 @@
+/* WireNet: tension-only elasto-plastic wire law (Thoeni et al. 2013, Bertrand et al. 2008).
+   No LIGGGHTS dependency: the kernel is plain arithmetic on a bond's history record. */
+
+#ifndef WIRENET_WIRE_LAW_H
+#define WIRENET_WIRE_LAW_H
+
+#include <string>
+#include <vector>
+
+namespace WireNet {
+
+// Per-bond history record of a wire bond (doubles in the history fix's slot).
+// The bond's force-elongation envelope is the type's (strain, stress) table mapped by
+//   u = a * strain + b,  F = c * stress,
+// preceded by the segment from (0,0) to the first mapped point. This one transform covers the
+// plain law (a = l0, b = 0, c = A), the derived double-twist law (c scaled by k_D/k) and the
+// random initial slack (a = l0 + dl, b = dl).
+enum WireSlot {
+  W_L0 = 0,     // initial length; 0 until the bond is initialised at the first run
+  W_A,          // strain -> elongation scale
+  W_B,          // elongation offset (slack)
+  W_C,          // stress -> force scale
+  W_KU,         // unloading / reloading stiffness
+  W_UMAX,       // largest elongation reached
+  W_FMAX,       // envelope force at W_UMAX
+  W_NSLOTS
+};
+
+struct WireLawParams {
+  double diameter = 0.0;
+  double area_factor = 1.0;
+  std::vector<double> strain, stress;  // table without the implied (0,0)
+  bool derived = false;
+  double lambda_eps = 0.0, lambda_k = 0.0, nu = 0.0;
+  bool slack = false;
+  double lambda_u = 0.0, lambda_f = 1.0;
+  long seed = 0;
+};
+
+class WireLaw {
+ public:
+  // Throws std::invalid_argument with a one-line message naming the problem.
+  explicit WireLaw(const WireLawParams &p);
+
+  const WireLawParams &params() const { return p_; }
+  double area() const { return area_; }
+  double rupture_strain() const { return strain_.back(); }
+  // Upper bound of (length / l0) before rupture, for the ghost cutoff.
+  double max_stretch() const;
+
+  // Fill a bond's record from its initial length and the two atom tags (slack draw).
+  void init_bond(double *h, double l0, long tag1, long tag2) const;
+
+  // Tension [N] at elongation u; updates the plastic state. Returns false on rupture.
+  inline bool tension(double u, double *h, double &force) const;
+  // Tension without touching the state (output).
+  inline double tension_const(double u, const double *h) const;
+
+  // Slack fraction r in [0,1] (triangular, mode 1/2) drawn from the seed and the two tags.
+  static double slack_draw(long seed, long tag1, long tag2);
+
+ private:
+  inline double envelope(double u, const double *h) const;
+
+  WireLawParams p_;
+  double area_ = 0.0;
+  std::vector<double> strain_, stress_, slope_;  // effective table (derived / slack applied)
+  int elastic_point_ = 0;  // table index of the point that defines the unloading stiffness
+  double dt_kh_factor_ = 0.0;
+};
+
+// ----------------------------------------------------------------------------------------------
+
+inline double WireLaw::envelope(double u, const double *h) const
+{
+  const double a = h[W_A], b = h[W_B], c = h[W_C];
+  const double u1 = a * strain_[0] + b;
+  if (u <= u1) return c * stress_[0] * (u / u1);
+  const double e = (u - b) / a;
+  const int n = (int)strain_.size();
+  int k = 0;
+  while (k < n - 2 && e > strain_[k + 1]) ++k;
+  return c * (stress_[k] + slope_[k] * (e - strain_[k]));
+}
+
+inline bool WireLaw::tension(double u, double *h, double &force) const
+{
+  if (u > h[W_A] * strain_.back() + h[W_B]) { force = 0.0; return false; }
+  if (u >= h[W_UMAX]) {
+    h[W_UMAX] = u;
+    h[W_FMAX] = envelope(u, h);
+    force = h[W_FMAX];
+  } else {
+    const double f = h[W_FMAX] - h[W_KU] * (h[W_UMAX] - u);
+    force = f > 0.0 ? f : 0.0;
+  }
+  return true;
+}
+
+inline double WireLaw::tension_const(double u, const double *h) const
+{
+  if (u >= h[W_UMAX]) return envelope(u, h);
+  const double f = h[W_FMAX] - h[W_KU] * (h[W_UMAX] - u);
+  return f > 0.0 ? f : 0.0;
+}
+
+}  // namespace WireNet
+
+#endif

@@ -1,0 +1,462 @@
+#include "Cli.h"
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+#include "AtomicFile.h"
+#include "Beam.h"
+#include "CompoundPanel.h"
+#include "MeshWriter.h"
+#include "Options.h"
+#include "Shapes.h"
+#include "StlWriter.h"
+
+namespace wirenet {
+namespace {
+
+const char* kUsage =
+    "usage: wirenet-gen hex|square|compound|beam [options] --out PREFIX\n"
+    "       wirenet-gen shape spheroid|cone|truncated-cube [options] --out FILE.stl\n"
+    "Panels write PREFIX.data (LIGGGHTS read_data) and PREFIX.json (metadata);\n"
+    "shapes write FILE.stl (ASCII) and FILE.json. `wirenet-gen SUB --help` lists the options.\n"
+    "See doc/wirenet-gen.md.\n";
+
+// ---- option groups -------------------------------------------------------------------------
+
+void addPanelSize(Options& o) {
+    o.addNumber("width", 3.0, "m", "panel size along x (clipped at +-W/2)");
+    o.addNumber("height", 3.0, "m", "panel size along y (clipped at +-H/2)");
+}
+
+void addHexOptions(Options& o, const std::string& pre) {
+    o.addNumber("axis-distance", 0.080, "m", "distance between neighbouring twist axes (x)");
+    o.addNumber("twist-length", 0.040, "m", "length of a double twist (y)");
+    o.addNumber("rise", 0.040, "m", "y-distance spanned by a single-wire bond");
+    o.addNumber("wire-diameter", 0.0027, "m", "mesh wire diameter");
+    o.addNumber("selvedge-diameter", 0.0034, "m", "selvedge (edge) wire diameter");
+    o.addNumber(pre + "node-diameter", 0.0108, "m", "hex node sphere diameter (numerical, 4 d)");
+    o.addString(pre + "node-mass", "0.0039", "hex node mass in kg, or 'wire' (steel wire mass lumped evenly)");
+    o.addOptionalNumber(pre + "areal-mass", "kg/m2", "if set, hex node mass = areal mass x W x H / nodes");
+    o.addNumber("snap", 0.3, "-", "boundary merge tolerance as a fraction of the shortest lattice bond");
+}
+
+void addSquareOptions(Options& o, const std::string& pre) {
+    o.addNumber("cell", 0.30, "m", "square cell size (rope spacing)");
+    o.addNumber("rope-diameter", 0.010, "m", "strand-rope diameter");
+    o.addInt("elements", 3, 1, "rope elements per cell side");
+    o.addOptionalNumber(pre + "node-diameter", "m", "square node sphere diameter", Bound::Positive, "rope diameter");
+    o.addNumber("rope-mass", 0.40, "kg/m", "rope mass per metre, lumped to the nodes");
+    o.addNumber("edge-drop", 0.25, "-", "drop an interior rope closer than this x cell to the edge");
+}
+
+void addBox(Options& o, double margin, double zlo, double zhi, const std::string& zhint) {
+    o.addNumber("margin-x", margin, "m", "box margin beyond the nodes in x", Bound::NonNegative);
+    o.addNumber("margin-y", margin, "m", "box margin beyond the nodes in y", Bound::NonNegative);
+    if (zhint.empty()) {
+        o.addNumber("zlo", zlo, "m", "box lower z bound (net deflects towards -z)", Bound::Any);
+        o.addNumber("zhi", zhi, "m", "box upper z bound (loads come from +z)", Bound::Any);
+    } else {
+        o.addOptionalNumber("zlo", "m", "box lower z bound", Bound::Any, zhint);
+        o.addOptionalNumber("zhi", "m", "box upper z bound", Bound::Any, "+" + zhint.substr(1));
+    }
+}
+
+// ---- parameter extraction and checks --------------------------------------------------------
+
+std::string requireOut(const Options& o) {
+    const std::string& out = o.str("out");
+    if (!o.wasGiven("out")) throw UsageError("--out is required (got nothing)");
+    return out;
+}
+
+HexParams hexParams(const Options& o, const std::string& pre) {
+    HexParams p;
+    p.width = o.num("width");
+    p.height = o.num("height");
+    p.axisDistance = o.num("axis-distance");
+    p.twistLength = o.num("twist-length");
+    p.rise = o.num("rise");
+    p.wireDiameter = o.num("wire-diameter");
+    p.selvedgeDiameter = o.num("selvedge-diameter");
+    p.nodeDiameter = o.num(pre + "node-diameter");
+    p.snapFraction = o.num("snap");
+    const std::string& mass = o.str(pre + "node-mass");
+    if (mass == "wire") {
+        p.massRule = HexParams::Mass::FromWire;
+    } else {
+        char* end = nullptr;
+        const double v = std::strtod(mass.c_str(), &end);
+        if (*end != '\0' || !std::isfinite(v) || !(v > 0))
+            throw UsageError("--" + pre + "node-mass must be a number > 0 or 'wire' (got " + mass + ")");
+        p.nodeMass = v;
+    }
+    if (o.isSet(pre + "areal-mass")) {
+        p.massRule = HexParams::Mass::Areal;
+        p.arealMass = o.num(pre + "areal-mass");
+    }
+    o.requireLess("--axis-distance", p.axisDistance, "--width", p.width);
+    o.requireLess("--twist-length + --rise", p.twistLength + p.rise, "--height/2", 0.5 * p.height);
+    if (!(p.snapFraction < 0.5))
+        throw UsageError("--snap must be < 0.5 (got " + o.str("snap") + ")");
+    return p;
+}
+
+SquareParams squareParams(const Options& o, const std::string& pre) {
+    SquareParams p;
+    p.width = o.num("width");
+    p.height = o.num("height");
+    p.cell = o.num("cell");
+    p.ropeDiameter = o.num("rope-diameter");
+    p.elements = int(o.integer("elements"));
+    p.nodeDiameter = o.isSet(pre + "node-diameter") ? o.num(pre + "node-diameter") : p.ropeDiameter;
+    p.ropeMass = o.num("rope-mass");
+    p.dropFraction = o.num("edge-drop");
+    o.requireLess("--cell", p.cell, "--width", p.width);
+    o.requireLess("--cell", p.cell, "--height", p.height);
+    if (!(p.dropFraction < 0.5))
+        throw UsageError("--edge-drop must be < 0.5 (got " + o.str("edge-drop") + ")");
+    return p;
+}
+
+Box panelBox(const Options& o, const NetModel& m) {
+    Box b;
+    const Eigen::Vector3d lo = m.bboxMin(), hi = m.bboxMax();
+    b.lo << lo.x() - o.num("margin-x"), lo.y() - o.num("margin-y"), o.num("zlo");
+    b.hi << hi.x() + o.num("margin-x"), hi.y() + o.num("margin-y"), o.num("zhi");
+    if (!(b.lo.z() < lo.z())) throw UsageError("--zlo must be below the nodes (got " + o.str("zlo") + ")");
+    if (!(b.hi.z() > hi.z())) throw UsageError("--zhi must be above the nodes (got " + o.str("zhi") + ")");
+    return b;
+}
+
+Json wire(double d, const std::string& note = "") {
+    Json w = Json::object();
+    w.set("diameter", d);
+    if (!note.empty()) w.set("note", note);
+    return w;
+}
+
+Json nodeJson(double d, double mass) {
+    Json n = Json::object();
+    n.set("diameter", d).set("mass", mass);
+    return n;
+}
+
+double meanMass(const NetModel& m, int molecule) {
+    double s = 0;
+    long n = 0;
+    for (const auto& x : m.nodes)
+        if (x.molecule == molecule) { s += x.mass; ++n; }
+    return n ? s / n : 0.0;
+}
+
+// The hex layer alone (molecule 1), for the per-node mass rule.
+NetModel hexLayer(const NetModel& m) {
+    NetModel h;
+    std::vector<int> id(m.nodes.size(), -1);
+    for (size_t i = 0; i < m.nodes.size(); ++i)
+        if (m.nodes[i].molecule == 1) { id[i] = int(h.nodes.size()); h.nodes.push_back(m.nodes[i]); }
+    for (const auto& b : m.bonds)
+        if (id[b.a] >= 0 && id[b.b] >= 0 && b.type != btype::Rope) h.bonds.push_back({b.type, id[b.a], id[b.b]});
+    return h;
+}
+
+void describeHex(NetDescription& d, const HexParams& p, const NetModel& m) {
+    d.cells.set("hex", HexPanel(p).cellJson());
+    d.wires.set("DT", wire(p.wireDiameter, "two twisted wires"));
+    d.wires.set("SW", wire(p.wireDiameter)).set("selvedge", wire(p.selvedgeDiameter));
+    Json n = nodeJson(p.nodeDiameter, HexPanel(p).nodeMass(hexLayer(m)));
+    n.set("mass_rule", p.massRule == HexParams::Mass::FromWire ? "steel wire lumped evenly"
+                       : p.massRule == HexParams::Mass::Areal  ? "areal mass x area / nodes"
+                                                               : "fixed per node");
+    d.node.set("hex", n);
+}
+
+void describeSquare(NetDescription& d, const SquareParams& p, const NetModel& m) {
+    d.cells.set("square", SquarePanel(p).cellJson());
+    Json w = wire(p.ropeDiameter);
+    w.set("mass_per_metre", p.ropeMass);
+    d.wires.set("rope", w);
+    Json n = nodeJson(p.nodeDiameter, meanMass(m, 2));
+    n.set("mass_rule", "rope mass lumped: half of each adjacent element");
+    d.node.set("square", n);
+}
+
+std::string summary(const std::string& sub, const NetModel& m, const NetDescription& d) {
+    std::ostringstream os;
+    os << "wirenet-gen " << sub << ": " << m.nodes.size() << " atoms, " << m.bonds.size() << " bonds (";
+    bool first = true;
+    for (const auto& kv : m.bondsPerType()) {
+        os << (first ? "" : ", ") << d.bondTypeNames.at(kv.first) << " " << kv.second;
+        first = false;
+    }
+    double minLen = m.bonds.empty() ? 0 : 1e300;
+    for (const auto& b : m.bonds) minLen = std::min(minLen, m.bondLength(b));
+    os << "), mass " << fmt(m.totalMass()) << " kg";
+    if (d.area > 0) os << " (" << fmt(m.totalMass() / d.area) << " kg/m2)";
+    os << ", bond length " << fmt(minLen) << " .. " << fmt(m.maxBondLength()) << " m";
+    return os.str();
+}
+
+void finishPanel(const std::string& sub, const Options& o, const NetModel& m, NetDescription& d) {
+    const std::string out = requireOut(o);
+    d.command = sub + " " + o.given();
+    d.width = o.num("width");
+    d.height = o.num("height");
+    d.area = d.width * d.height;
+    d.box = panelBox(o, m);
+    MeshWriter(m, d).write(out);
+    std::cout << summary(sub, m, d) << "\n  -> " << out << ".data, " << out << ".json\n";
+}
+
+// ---- subcommands ----------------------------------------------------------------------------
+
+int runHex(const std::vector<std::string>& args) {
+    Options o("hex");
+    o.setSummary("Double-twist hexagonal mesh (twists parallel to y), clipped at +-W/2, +-H/2,\n"
+                 "selvedge wire around the edges. Defaults: the paper's 3 m panel, 8x10 mesh, 2.7 mm wire.");
+    addPanelSize(o);
+    addHexOptions(o, "");
+    addBox(o, 0.2, -2.0, 1.0, "");
+    o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json)");
+    if (!o.parse(args)) { std::cout << o.help(); return 0; }
+    requireOut(o);
+    const HexParams p = hexParams(o, "");
+    const NetModel m = HexPanel(p).build();
+    NetDescription d = panelDescription("hex");
+    describeHex(d, p, m);
+    finishPanel("hex", o, m, d);
+    return 0;
+}
+
+int runSquare(const std::vector<std::string>& args) {
+    Options o("square");
+    o.setSummary("Strand-rope square mesh: ropes along x and y, shared node at each crossing,\n"
+                 "perimeter ropes on the edges. Defaults: 3 m panel, 300 mm cell, 10 mm rope.");
+    addPanelSize(o);
+    addSquareOptions(o, "");
+    addBox(o, 0.2, -2.0, 1.0, "");
+    o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json)");
+    if (!o.parse(args)) { std::cout << o.help(); return 0; }
+    requireOut(o);
+    const SquareParams p = squareParams(o, "");
+    const NetModel m = SquarePanel(p).build();
+    NetDescription d = panelDescription("square");
+    describeSquare(d, p, m);
+    finishPanel("square", o, m, d);
+    return 0;
+}
+
+int runCompound(const std::vector<std::string>& args) {
+    Options o("compound");
+    o.setSummary("Hexagonal layer (z = r_hex + r_sq, loaded side) over a square layer (z = 0);\n"
+                 "no bonds between the layers unless --ties is given. Both layers pinned at the edges.");
+    addPanelSize(o);
+    addHexOptions(o, "hex-");
+    addSquareOptions(o, "square-");
+    o.addInt("ties", 0, 0, "tie every k-th interior crossing (in x and y) to the nearest hex node; 0 = none");
+    addBox(o, 0.2, -2.0, 1.0, "");
+    o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json)");
+    if (!o.parse(args)) { std::cout << o.help(); return 0; }
+    requireOut(o);
+    CompoundParams p;
+    p.hex = hexParams(o, "hex-");
+    p.square = squareParams(o, "square-");
+    p.tieEvery = int(o.integer("ties"));
+    CompoundPanel panel(p);
+    const NetModel m = panel.build();
+    NetDescription d = panelDescription("compound");
+    describeHex(d, p.hex, m);
+    describeSquare(d, p.square, m);
+    d.extra.set("hex_z", 0.5 * (p.hex.nodeDiameter + p.square.nodeDiameter)).set("square_z", 0.0);
+    d.extra.set("tie_every", p.tieEvery).set("ties", panel.ties()).set("tie_bond_type", p.tieType);
+    finishPanel("compound", o, m, d);
+    return 0;
+}
+
+int runBeam(const std::vector<std::string>& args) {
+    Options o("beam");
+    o.setSummary("Straight cantilever chain along +x: root (type 2) at x = 0, tip (type 3) at x = L.");
+    o.addNumber("length", 2.0, "m", "beam length");
+    o.addInt("elements", 5, 1, "number of elements (bonds)");
+    o.addNumber("diameter", 0.01, "m", "beam (bonded cylinder) diameter");
+    o.addOptionalNumber("node-diameter", "m", "node sphere diameter", Bound::Positive, "beam diameter");
+    o.addNumber("density", 7850.0, "kg/m3", "density of the cylinder, lumped to the nodes");
+    addBox(o, 0.1, 0, 0, "-length");
+    o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json)");
+    if (!o.parse(args)) { std::cout << o.help(); return 0; }
+    const std::string out = requireOut(o);
+    BeamParams p;
+    p.length = o.num("length");
+    p.elements = int(o.integer("elements"));
+    p.diameter = o.num("diameter");
+    p.nodeDiameter = o.isSet("node-diameter") ? o.num("node-diameter") : p.diameter;
+    p.density = o.num("density");
+    const NetModel m = Beam(p).build();
+
+    NetDescription d;
+    d.kind = "beam";
+    d.command = "beam " + o.given();
+    d.atomTypes = 3;
+    d.bondTypes = 1;
+    d.atomTypeNames = {{1, "beam_interior"}, {2, "beam_root"}, {3, "beam_tip"}};
+    d.bondTypeNames = {{1, "beam"}};
+    d.centre << 0.5 * p.length, 0, 0;
+    d.width = p.length;
+    d.height = 0;
+    d.wires.set("beam", wire(p.diameter));
+    d.node.set("beam", nodeJson(p.nodeDiameter, p.density * M_PI * 0.25 * p.diameter * p.diameter * p.length / p.elements));
+    d.extra.set("length", p.length).set("elements", p.elements).set("diameter", p.diameter);
+    d.extra.set("density", p.density).set("mass_rule", "cylinder mass lumped: half element at the ends");
+    const double zlo = o.isSet("zlo") ? o.num("zlo") : -p.length, zhi = o.isSet("zhi") ? o.num("zhi") : p.length;
+    if (!(zlo < 0)) throw UsageError("--zlo must be below the nodes (got " + o.str("zlo") + ")");
+    if (!(zhi > 0)) throw UsageError("--zhi must be above the nodes (got " + o.str("zhi") + ")");
+    d.box.lo << -o.num("margin-x"), -o.num("margin-y"), zlo;
+    d.box.hi << p.length + o.num("margin-x"), o.num("margin-y"), zhi;
+    if (!(d.box.lo.y() < d.box.hi.y()))
+        throw UsageError("--margin-y must be > 0 for a beam (got " + o.str("margin-y") + ")");
+    MeshWriter(m, d).write(out);
+    std::cout << summary("beam", m, d) << "\n  -> " << out << ".data, " << out << ".json\n";
+    return 0;
+}
+
+// ---- shapes ---------------------------------------------------------------------------------
+
+std::string jsonPathFor(const std::string& stl) {
+    const auto dot = stl.rfind('.');
+    const auto slash = stl.rfind('/');
+    if (dot != std::string::npos && (slash == std::string::npos || dot > slash)) return stl.substr(0, dot) + ".json";
+    return stl + ".json";
+}
+
+Json matrixJson(const Eigen::Matrix3d& m) {
+    Json a = Json::array();
+    for (int i = 0; i < 3; ++i) a.push(Json::vec3(m.row(i)));
+    return a;
+}
+
+int runShape(const std::vector<std::string>& args) {
+    if (args.empty() || args[0] == "--help" || args[0] == "-h") {
+        std::cout << "usage: wirenet-gen shape spheroid|cone|truncated-cube [options] --out FILE.stl\n"
+                     "`wirenet-gen shape KIND --help` lists the options.\n";
+        if (args.empty()) throw UsageError("shape kind missing (got nothing)");
+        return 0;
+    }
+    const std::string kind = args[0];
+    if (kind != "spheroid" && kind != "cone" && kind != "truncated-cube")
+        throw UsageError("unknown shape " + kind + " (expected spheroid, cone or truncated-cube)");
+    Options o("shape " + kind);
+    const bool cube = kind == "truncated-cube";
+    if (kind == "spheroid") {
+        o.setSummary("Semi-spheroid platter (Pol et al. 2017): base disc at z = 0, dome towards -z.");
+        o.addNumber("radius", 0.5, "m", "base radius");
+        o.addNumber("height", 0.15, "m", "dome height");
+    } else if (kind == "cone") {
+        o.setSummary("Cone platter (Bonati et al. 2004): base disc at z = 0, apex at z = -height.");
+        o.addNumber("radius", 0.34, "m", "base radius");
+        o.addNumber("height", 0.78, "m", "height");
+    } else {
+        o.setSummary("Truncated cube (impact block, EOTA 2013 / ETAG 027 shape), centroid at the origin.");
+        o.addNumber("side", 0.45, "m", "cube side");
+        o.addOptionalNumber("corner-cut", "m", "length cut off each cube edge at every corner", Bound::Positive, "side/3");
+    }
+    if (!cube) o.addInt("resolution", 96, 8, "segments around the axis, dome rings = resolution/4 (>= 64 keeps the volume within 0.5 %)");
+    if (cube) o.addNumber("mass", 44.5, "kg", "mass for the inertia tensor");
+    else o.addOptionalNumber("mass", "kg", "mass for the inertia tensor", Bound::Positive, "none");
+    o.addString("out", "required", "output STL file (also writes FILE.json)");
+    std::vector<std::string> rest(args.begin() + 1, args.end());
+    if (!o.parse(rest)) { std::cout << o.help(); return 0; }
+    const std::string out = requireOut(o);
+
+    TriMesh mesh;
+    double analytic = 0;
+    Json params = Json::object();
+    if (cube) {
+        const double s = o.num("side");
+        const double c = o.isSet("corner-cut") ? o.num("corner-cut") : s / 3.0;
+        if (!(c < 0.5 * s))
+            throw UsageError("--corner-cut must be < --side/2 (got " + fmt(c) + " >= " + fmt(0.5 * s) + ")");
+        mesh = ShapeBuilder::truncatedCube(s, c);
+        analytic = ShapeBuilder::truncatedCubeVolume(s, c);
+        params.set("side", s).set("corner_cut", c);
+    } else {
+        const double r = o.num("radius"), h = o.num("height");
+        const int n = int(o.integer("resolution"));
+        mesh = kind == "cone" ? ShapeBuilder::cone(r, h, n) : ShapeBuilder::semiSpheroid(r, h, n);
+        analytic = kind == "cone" ? ShapeBuilder::coneVolume(r, h) : ShapeBuilder::semiSpheroidVolume(r, h);
+        params.set("radius", r).set("height", h).set("resolution", n);
+    }
+    const double mass = o.isSet("mass") || cube ? o.num("mass") : 0.0;
+    MassProperties mp = massProperties(mesh, mass);
+    // Round-off of exactly symmetric quantities is printed as 0.
+    const double scale = mesh.vertices.empty() ? 1.0 : (mesh.vertices[0] - mp.centroid).norm();
+    for (int i = 0; i < 3; ++i)
+        if (std::abs(mp.centroid[i]) < 1e-12 * scale) mp.centroid[i] = 0;
+    const double imax = mp.inertia.cwiseAbs().maxCoeff();
+    mp.inertia = mp.inertia.unaryExpr([imax](double v) { return std::abs(v) < 1e-12 * imax ? 0.0 : v; });
+
+    Json j = Json::object();
+    j.set("generator", "wirenet-gen").set("kind", "shape").set("shape", kind);
+    j.set("command", "wirenet-gen shape " + kind + " " + o.given()).set("stl", out);
+    j.set("parameters", params).set("facets", long(mesh.faces.size()));
+    j.set("volume", mp.volume).set("volume_analytic", analytic);
+    j.set("volume_rel_error", mp.volume / analytic - 1).set("centroid", Json::vec3(mp.centroid));
+    if (mass > 0) {
+        j.set("mass", mass).set("density", mass / mp.volume).set("inertia", matrixJson(mp.inertia));
+        j.set("inertia_note", "about the centroid, axes of the STL frame, kg m2");
+    }
+    AtomicFile stl(out), meta(jsonPathFor(out));
+    StlWriter::write(stl.stream(), mesh, kind);
+    meta.stream() << j.dump(2) << "\n";
+    stl.close();
+    meta.close();
+    stl.commit();
+    meta.commit();
+
+    std::cout << "wirenet-gen shape " << kind << ": " << mesh.faces.size() << " facets, volume "
+              << fmt(mp.volume) << " m3 (analytic " << fmt(analytic) << ", "
+              << fmt(100 * (mp.volume / analytic - 1)) << " %), centroid (" << fmt(mp.centroid.x()) << ", "
+              << fmt(mp.centroid.y()) << ", " << fmt(mp.centroid.z()) << ")\n";
+    if (mass > 0) {
+        std::cout << "  mass " << fmt(mass) << " kg, density " << fmt(mass / mp.volume)
+                  << " kg/m3, inertia about the centroid [kg m2]:\n";
+        for (int i = 0; i < 3; ++i)
+            std::cout << "    " << fmt(mp.inertia(i, 0)) << " " << fmt(mp.inertia(i, 1)) << " "
+                      << fmt(mp.inertia(i, 2)) << "\n";
+    }
+    std::cout << "  -> " << out << ", " << jsonPathFor(out) << "\n";
+    return 0;
+}
+
+}  // namespace
+
+int runCli(const std::vector<std::string>& args) {
+    if (args.empty() || args[0] == "--help" || args[0] == "-h") {
+        std::cout << kUsage;
+        if (args.empty()) {
+            std::cerr << "wirenet-gen: error: subcommand missing (got nothing)\n";
+            return 2;
+        }
+        return 0;
+    }
+    const std::string sub = args[0];
+    std::vector<std::string> rest(args.begin() + 1, args.end());
+    std::string label = sub;
+    if (sub == "shape" && !rest.empty() && rest[0].rfind("--", 0) != 0) label += " " + rest[0];
+    try {
+        if (sub == "hex") return runHex(rest);
+        if (sub == "square") return runSquare(rest);
+        if (sub == "compound") return runCompound(rest);
+        if (sub == "beam") return runBeam(rest);
+        if (sub == "shape") return runShape(rest);
+        std::cerr << "wirenet-gen: error: unknown subcommand " << sub
+                  << " (expected hex, square, compound, beam or shape)\n";
+        return 2;
+    } catch (const UsageError& e) {
+        std::cerr << "wirenet-gen " << label << ": error: " << e.what() << "\n";
+        return 2;
+    }
+}
+
+}  // namespace wirenet

@@ -1,0 +1,221 @@
+#include "HexPanel.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+namespace wirenet {
+
+double HexParams::swLength() const { return std::hypot(0.5 * axisDistance, rise); }
+
+double HexParams::snapTolerance() const { return snapFraction * std::min(twistLength, swLength()); }
+
+namespace {
+
+// Builds the clipped graph: lattice nodes (snapped), boundary crossings (merged), bonds.
+class ClippedGraph {
+public:
+    ClippedGraph(double X, double Y, double eps) : X_(X), Y_(Y), eps_(eps) {}
+
+    // Lattice node; coordinates within eps of an edge line are moved onto it so that
+    // no sliver bond appears between a node and the edge.
+    int addLatticeNode(Eigen::Vector2d p) {
+        p.x() = snap(p.x(), X_);
+        p.y() = snap(p.y(), Y_);
+        const bool inside = std::abs(p.x()) <= X_ && std::abs(p.y()) <= Y_;
+        pos_.push_back(p);
+        alive_.push_back(inside);
+        if (inside && onBoundary(p)) boundary_.push_back(int(pos_.size()) - 1);
+        return int(pos_.size()) - 1;
+    }
+
+    // Corner nodes close the selvedge loop exactly along the edges.
+    void addCorners() {
+        for (double sx : {-1.0, 1.0})
+            for (double sy : {-1.0, 1.0}) boundaryNode({sx * X_, sy * Y_});
+    }
+
+    // Adds the part of lattice segment i-j that lies inside the panel.
+    void addSegment(int i, int j, int type) {
+        const Eigen::Vector2d p = pos_[i], q = pos_[j];
+        double t0, t1;
+        if (!clip(p, q, t0, t1)) return;
+        const int a = alive_[i] && t0 == 0 ? i : boundaryNode(onEdge(p + t0 * (q - p)));
+        const int b = alive_[j] && t1 == 1 ? j : boundaryNode(onEdge(p + t1 * (q - p)));
+        if (a == b) return;
+        if (sameEdge(pos_[a], pos_[b])) return;  // runs along the edge: the selvedge covers it
+        if ((a != i || b != j) && (pos_[a] - pos_[b]).norm() < eps_) return;  // sliver
+        if (!pairs_.insert({std::min(a, b), std::max(a, b)}).second) return;
+        bonds_.push_back({type, a, b});
+    }
+
+    // Selvedge: consecutive boundary nodes around the perimeter, closed loop.
+    void addSelvedge(int type) {
+        std::vector<int> ring = boundary_;
+        std::sort(ring.begin(), ring.end(),
+                  [&](int u, int v) { return perimeter(pos_[u]) < perimeter(pos_[v]); });
+        for (size_t k = 0; k < ring.size(); ++k) {
+            const int a = ring[k], b = ring[(k + 1) % ring.size()];
+            if (pairs_.insert({std::min(a, b), std::max(a, b)}).second) bonds_.push_back({type, a, b});
+        }
+    }
+
+    NetModel toModel(const HexParams& hp) const {
+        NetModel m;
+        std::vector<int> newId(pos_.size(), -1);
+        for (size_t i = 0; i < pos_.size(); ++i) {
+            if (!alive_[i]) continue;
+            newId[i] = int(m.nodes.size());
+            const bool ex = std::abs(pos_[i].x()) == X_, ey = std::abs(pos_[i].y()) == Y_;
+            const int type = ex && ey ? atype::HexCorner
+                             : ex     ? atype::HexEdgeX
+                             : ey     ? atype::HexEdgeY
+                                      : atype::HexInterior;
+            m.nodes.push_back({{pos_[i].x(), pos_[i].y(), hp.z}, type, hp.nodeDiameter, 0.0, hp.molecule});
+        }
+        for (const Bond& b : bonds_) m.bonds.push_back({b.type, newId[b.a], newId[b.b]});
+        return m;
+    }
+
+private:
+    double snap(double v, double L) const {
+        if (std::abs(v - L) <= eps_) return L;
+        if (std::abs(v + L) <= eps_) return -L;
+        return v;
+    }
+    bool onBoundary(const Eigen::Vector2d& p) const {
+        return std::abs(p.x()) == X_ || std::abs(p.y()) == Y_;
+    }
+    bool sameEdge(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const {
+        return (std::abs(a.x()) == X_ && a.x() == b.x()) || (std::abs(a.y()) == Y_ && a.y() == b.y());
+    }
+    // Puts a clipped point exactly on the edge line it was clipped against.
+    Eigen::Vector2d onEdge(Eigen::Vector2d p) const {
+        p.x() = std::clamp(p.x(), -X_, X_);
+        p.y() = std::clamp(p.y(), -Y_, Y_);
+        if (X_ - std::abs(p.x()) <= Y_ - std::abs(p.y()))
+            p.x() = std::copysign(X_, p.x());
+        else
+            p.y() = std::copysign(Y_, p.y());
+        return p;
+    }
+    // Reuses a boundary node closer than eps, else creates one (no sliver selvedge bonds).
+    int boundaryNode(const Eigen::Vector2d& p) {
+        for (int b : boundary_)
+            if ((pos_[b] - p).norm() < eps_) return b;
+        pos_.push_back(p);
+        alive_.push_back(true);
+        boundary_.push_back(int(pos_.size()) - 1);
+        return int(pos_.size()) - 1;
+    }
+    // Liang-Barsky clipping of p + t (q - p), t in [0, 1], to the panel.
+    bool clip(const Eigen::Vector2d& p, const Eigen::Vector2d& q, double& t0, double& t1) const {
+        const Eigen::Vector2d d = q - p;
+        t0 = 0;
+        t1 = 1;
+        auto edge = [&](double den, double num) {  // constraint: den * t <= num
+            if (den == 0) return num >= 0;
+            const double r = num / den;
+            if (den < 0) {
+                if (r > t1) return false;
+                t0 = std::max(t0, r);
+            } else {
+                if (r < t0) return false;
+                t1 = std::min(t1, r);
+            }
+            return true;
+        };
+        return edge(-d.x(), X_ + p.x()) && edge(d.x(), X_ - p.x()) && edge(-d.y(), Y_ + p.y()) &&
+               edge(d.y(), Y_ - p.y()) && t0 <= t1;
+    }
+    // Arc length along the perimeter, counter-clockwise from (-X, -Y).
+    double perimeter(const Eigen::Vector2d& p) const {
+        const double W = 2 * X_, H = 2 * Y_;
+        if (p.y() == -Y_) return p.x() + X_;
+        if (p.x() == X_) return W + p.y() + Y_;
+        if (p.y() == Y_) return W + H + X_ - p.x();
+        return 2 * W + H + Y_ - p.y();
+    }
+
+    double X_, Y_, eps_;
+    std::vector<Eigen::Vector2d> pos_;
+    std::vector<char> alive_;
+    std::vector<int> boundary_;
+    std::vector<Bond> bonds_;
+    std::set<std::pair<int, int>> pairs_;
+};
+
+}  // namespace
+
+NetModel HexPanel::build() const {
+    const double X = 0.5 * p_.width, Y = 0.5 * p_.height;
+    const double half = 0.5 * p_.axisDistance, pitch = p_.rowPitch(), t = p_.twistLength;
+    ClippedGraph g(X, Y, p_.snapTolerance());
+
+    // Row k: twists centred at y = k * pitch (row 0 on the x axis, so the panel is mirror
+    // symmetric in x and y); twist columns at x = q * half with q - k even.
+    const int K = int(std::ceil((Y + pitch) / pitch)) + 1;
+    const int Q = int(std::ceil(X / half)) + 2;
+    const int nq = 2 * Q + 1;
+    auto slot = [&](int k, int q) { return size_t(k + K) * nq + size_t(q + Q); };
+    std::vector<int> bottom(size_t(2 * K + 1) * nq, -1), top(bottom.size(), -1);
+    for (int k = -K; k <= K; ++k)
+        for (int q = -Q; q <= Q; ++q) {
+            if ((q - k) % 2 != 0) continue;
+            const double x = q * half, yc = k * pitch;
+            bottom[slot(k, q)] = g.addLatticeNode({x, yc - 0.5 * t});
+            top[slot(k, q)] = g.addLatticeNode({x, yc + 0.5 * t});
+        }
+    g.addCorners();
+    for (int k = -K; k <= K; ++k)
+        for (int q = -Q; q <= Q; ++q) {
+            const int up = top[slot(k, q)];
+            if (up < 0) continue;
+            g.addSegment(bottom[slot(k, q)], up, btype::DT);
+            if (k == K) continue;
+            // SW bonds from the top of this twist to the bottoms of the two twists above.
+            for (int dq : {-1, 1})
+                if (std::abs(q + dq) <= Q) g.addSegment(up, bottom[slot(k + 1, q + dq)], btype::SW);
+        }
+    g.addSelvedge(btype::Selvedge);
+
+    NetModel m = g.toModel(p_);
+    const double mass = nodeMass(m);
+    for (auto& n : m.nodes) n.mass = mass;
+    return m;
+}
+
+std::map<int, double> HexPanel::lengthPerType(const NetModel& m) {
+    std::map<int, double> len;
+    for (const auto& b : m.bonds) len[b.type] += m.bondLength(b);
+    return len;
+}
+
+double HexPanel::nodeMass(const NetModel& m) const {
+    const double n = double(m.nodes.size());
+    switch (p_.massRule) {
+        case HexParams::Mass::PerNode: return p_.nodeMass;
+        case HexParams::Mass::Areal: return p_.arealMass * p_.width * p_.height / n;
+        case HexParams::Mass::FromWire: {
+            // Steel wire lumped evenly: a DT bond holds two wires, selvedge has its own diameter.
+            auto len = lengthPerType(m);
+            const double aw = M_PI * 0.25 * p_.wireDiameter * p_.wireDiameter;
+            const double as = M_PI * 0.25 * p_.selvedgeDiameter * p_.selvedgeDiameter;
+            const double v = aw * (2 * len[btype::DT] + len[btype::SW]) + as * len[btype::Selvedge];
+            return kSteelDensity * v / n;
+        }
+    }
+    return p_.nodeMass;
+}
+
+Json HexPanel::cellJson() const {
+    Json c = Json::object();
+    c.set("axis_distance", p_.axisDistance).set("twist_length", p_.twistLength).set("rise", p_.rise);
+    c.set("sw_length", p_.swLength()).set("row_pitch", p_.rowPitch());
+    c.set("opening_height", p_.twistLength + 2 * p_.rise);
+    c.set("nominal", "100 x 80 mm (paper, Pol et al. 2017); see doc/wirenet-gen.md");
+    c.set("snap_tolerance", p_.snapTolerance());
+    return c;
+}
+
+}  // namespace wirenet

@@ -1,0 +1,42 @@
+// Double-twist hexagonal mesh clipped to a W x H panel (twists parallel to y).
+#pragma once
+#include "NetModel.h"
+
+namespace wirenet {
+
+struct HexParams {
+    double width = 3.0, height = 3.0;  // panel, m
+    double axisDistance = 0.080;       // distance between neighbouring twist axes (x), m
+    double twistLength = 0.040;        // length of a twist (y), m
+    double rise = 0.040;               // y-distance covered by a single-wire bond, m
+    double wireDiameter = 0.0027, selvedgeDiameter = 0.0034;  // m
+    double nodeDiameter = 0.0108;      // numerical sphere, m
+    enum class Mass { PerNode, FromWire, Areal } massRule = Mass::PerNode;
+    double nodeMass = 0.0039;          // kg, used with Mass::PerNode
+    double arealMass = 0;              // kg/m2, used with Mass::Areal
+    double snapFraction = 0.3;         // merge tolerance = fraction x shortest lattice bond
+    double z = 0;                      // plane of the layer
+    int molecule = 1;
+
+    double swLength() const;
+    double rowPitch() const { return twistLength + rise; }
+    double snapTolerance() const;
+};
+
+constexpr double kSteelDensity = 7850.0;  // kg/m3
+
+class HexPanel {
+public:
+    explicit HexPanel(const HexParams& p) : p_(p) {}
+    NetModel build() const;
+    // Mass per node actually used for a model with n nodes and the given wire lengths.
+    double nodeMass(const NetModel& m) const;
+    // Total wire length per bond family (DT counted once, it holds two wires).
+    static std::map<int, double> lengthPerType(const NetModel& m);
+    Json cellJson() const;
+
+private:
+    HexParams p_;
+};
+
+}  // namespace wirenet

@@ -1,0 +1,149 @@
+#include "Shapes.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+namespace wirenet {
+
+Eigen::Vector3d TriMesh::normal(size_t f) const {
+    const auto& t = faces[f];
+    return (vertices[t[1]] - vertices[t[0]]).cross(vertices[t[2]] - vertices[t[0]]).normalized();
+}
+
+void TriMesh::orientOutward(const Eigen::Vector3d& inside) {
+    for (size_t f = 0; f < faces.size(); ++f) {
+        const auto& t = faces[f];
+        const Eigen::Vector3d c = (vertices[t[0]] + vertices[t[1]] + vertices[t[2]]) / 3.0;
+        if (normal(f).dot(c - inside) < 0) std::swap(faces[f][1], faces[f][2]);
+    }
+}
+
+MassProperties massProperties(const TriMesh& mesh, double mass) {
+    // Sum over the signed tetrahedra (origin, face): volume, first and second moments.
+    double vol = 0;
+    Eigen::Vector3d first = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d second = Eigen::Matrix3d::Zero();  // integral of x x^T dV
+    const Eigen::Matrix3d canonical = (Eigen::Matrix3d::Identity() + Eigen::Matrix3d::Ones()) / 120.0;
+    for (const auto& t : mesh.faces) {
+        Eigen::Matrix3d A;
+        A << mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]];
+        const double det = A.determinant();
+        vol += det / 6.0;
+        first += det / 24.0 * (A.col(0) + A.col(1) + A.col(2));
+        second += det * A * canonical * A.transpose();
+    }
+    MassProperties p;
+    p.volume = vol;
+    p.centroid = first / vol;
+    if (mass > 0) {
+        const double rho = mass / vol;
+        const Eigen::Matrix3d S = rho * (second - vol * p.centroid * p.centroid.transpose());
+        p.inertia = S.trace() * Eigen::Matrix3d::Identity() - S;
+    }
+    return p;
+}
+
+namespace {
+
+// Ring of n vertices of radius r at height z; returns the index of the first one.
+int addRing(TriMesh& m, double r, double z, int n) {
+    const int first = int(m.vertices.size());
+    for (int i = 0; i < n; ++i) {
+        const double phi = 2 * M_PI * i / n;
+        m.vertices.emplace_back(r * std::cos(phi), r * std::sin(phi), z);
+    }
+    return first;
+}
+
+void fan(TriMesh& m, int centre, int ring, int n) {
+    for (int i = 0; i < n; ++i) m.faces.push_back({centre, ring + i, ring + (i + 1) % n});
+}
+
+void band(TriMesh& m, int ringA, int ringB, int n) {
+    for (int i = 0; i < n; ++i) {
+        const int j = (i + 1) % n;
+        m.faces.push_back({ringA + i, ringB + i, ringB + j});
+        m.faces.push_back({ringA + i, ringB + j, ringA + j});
+    }
+}
+
+}  // namespace
+
+TriMesh ShapeBuilder::semiSpheroid(double radius, double height, int segments) {
+    // Rings at equal steps of the polar angle from the apex (0, 0, -h) to the rim.
+    TriMesh m;
+    const int rings = std::max(4, segments / 4);
+    m.vertices.emplace_back(0, 0, -height);
+    int prev = -1;
+    for (int j = 1; j <= rings; ++j) {
+        const double th = 0.5 * M_PI * j / rings;
+        const double z = j == rings ? 0.0 : -height * std::cos(th);
+        const int ring = addRing(m, radius * std::sin(th), z, segments);
+        if (j == 1) fan(m, 0, ring, segments);
+        else band(m, prev, ring, segments);
+        prev = ring;
+    }
+    m.vertices.emplace_back(0, 0, 0);
+    fan(m, int(m.vertices.size()) - 1, prev, segments);
+    m.orientOutward({0, 0, -0.5 * height});
+    return m;
+}
+
+TriMesh ShapeBuilder::cone(double radius, double height, int segments) {
+    TriMesh m;
+    m.vertices.emplace_back(0, 0, -height);
+    const int ring = addRing(m, radius, 0.0, segments);
+    fan(m, 0, ring, segments);
+    m.vertices.emplace_back(0, 0, 0);
+    fan(m, int(m.vertices.size()) - 1, ring, segments);
+    m.orientOutward({0, 0, -0.25 * height});
+    return m;
+}
+
+TriMesh ShapeBuilder::truncatedCube(double side, double cut) {
+    TriMesh m;
+    const double h = 0.5 * side, k = h - cut;
+    // Each cube corner becomes three vertices, one on each of its edges.
+    for (int sx : {-1, 1})
+        for (int sy : {-1, 1})
+            for (int sz : {-1, 1}) {
+                const int a = int(m.vertices.size());
+                m.vertices.emplace_back(sx * k, sy * h, sz * h);
+                m.vertices.emplace_back(sx * h, sy * k, sz * h);
+                m.vertices.emplace_back(sx * h, sy * h, sz * k);
+                m.faces.push_back({a, a + 1, a + 2});  // corner triangle
+            }
+    // Each cube face: the octagon of the vertices in its plane, sorted by angle, as a fan.
+    for (int axis = 0; axis < 3; ++axis)
+        for (int s : {-1, 1}) {
+            std::vector<int> poly;
+            for (int v = 0; v < int(m.vertices.size()); ++v)
+                if (m.vertices[v][axis] == s * h) poly.push_back(v);
+            const int u = (axis + 1) % 3, w = (axis + 2) % 3;
+            std::sort(poly.begin(), poly.end(), [&](int a, int b) {
+                return std::atan2(m.vertices[a][w], m.vertices[a][u]) <
+                       std::atan2(m.vertices[b][w], m.vertices[b][u]);
+            });
+            for (size_t i = 1; i + 1 < poly.size(); ++i) m.faces.push_back({poly[0], poly[i], poly[i + 1]});
+        }
+    m.orientOutward(Eigen::Vector3d::Zero());
+    return m;
+}
+
+double ShapeBuilder::semiSpheroidVolume(double r, double h) { return 2.0 / 3.0 * M_PI * r * r * h; }
+
+double ShapeBuilder::coneVolume(double r, double h) { return M_PI * r * r * h / 3.0; }
+
+double ShapeBuilder::truncatedCubeVolume(double s, double c) { return s * s * s - 4.0 / 3.0 * c * c * c; }
+
+double ShapeBuilder::truncatedCubeInertia(double s, double c, double mass) {
+    // Cube minus 8 corner tetrahedra (legs c at distance h = s/2 from the centre per axis):
+    // per tetrahedron, integral of (y^2 + z^2) = 2 (h^2 c^3/6 - 2 h c^4/24 + c^5/60).
+    const double h = 0.5 * s;
+    const double rho = mass / truncatedCubeVolume(s, c);
+    const double corner = 2 * (h * h * c * c * c / 6 - h * std::pow(c, 4) / 12 + std::pow(c, 5) / 60);
+    return rho * (std::pow(s, 5) / 6 - 8 * corner);
+}
+
+}  // namespace wirenet

@@ -1,0 +1,45 @@
+// Closed, outward-oriented triangle meshes of the platters and the impact block, and their
+// mass properties (exact for the polyhedron, by the divergence theorem).
+#pragma once
+#include <Eigen/Core>
+#include <array>
+#include <string>
+#include <vector>
+
+namespace wirenet {
+
+struct TriMesh {
+    std::vector<Eigen::Vector3d> vertices;
+    std::vector<std::array<int, 3>> faces;
+
+    Eigen::Vector3d normal(size_t f) const;  // unit, right-hand rule
+    // Flips faces whose normal points towards `inside` (valid for convex solids only).
+    void orientOutward(const Eigen::Vector3d& inside);
+};
+
+struct MassProperties {
+    double volume = 0;
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();  // about the centroid, for `mass`
+};
+
+// Volume, centroid and (for mass > 0) the inertia tensor of a closed oriented mesh.
+MassProperties massProperties(const TriMesh& mesh, double mass);
+
+class ShapeBuilder {
+public:
+    // Base disc at z = 0, dome down to z = -height. `segments` around the axis.
+    static TriMesh semiSpheroid(double radius, double height, int segments);
+    // Base disc at z = 0, apex at z = -height.
+    static TriMesh cone(double radius, double height, int segments);
+    // Cube of side `side` centred at the origin, each corner cut `cut` along its three edges.
+    static TriMesh truncatedCube(double side, double cut);
+
+    static double semiSpheroidVolume(double r, double h);
+    static double coneVolume(double r, double h);
+    static double truncatedCubeVolume(double s, double c);
+    // Principal moment (all three equal by cubic symmetry) of the truncated cube.
+    static double truncatedCubeInertia(double s, double c, double mass);
+};
+
+}  // namespace wirenet

@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# CLI contract of wirenet-gen: every bad input gives exactly one stderr line naming the option
+# and the value, exit code 2, and leaves no file; good input writes both files, no temp files.
+# usage: cli_test.sh PATH/TO/wirenet-gen
+set -u
+GEN=${1:?usage: cli_test.sh wirenet-gen}
+WORK=$(mktemp -d)
+trap 'rm -rf "$WORK"' EXIT
+fails=0
+fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
+
+# bad CMD... EXPECT: runs CMD with --out in an empty directory; EXPECT must appear in the message.
+bad() {
+    local expect=$1; shift
+    local dir="$WORK/bad"; rm -rf "$dir"; mkdir -p "$dir"
+    (cd "$dir" && "$GEN" "$@" >stdout.txt 2>stderr.txt); local rc=$?
+    local lines; lines=$(wc -l <"$dir/stderr.txt")
+    local msg; msg=$(cat "$dir/stderr.txt")
+    [ "$rc" -eq 2 ] || fail "'$*': exit $rc, expected 2"
+    [ "$lines" -eq 1 ] || fail "'$*': $lines stderr lines: $msg"
+    [[ "$msg" == "wirenet-gen"*"error: "* ]] || fail "'$*': bad message format: $msg"
+    [[ "$msg" == *"$expect"* ]] || fail "'$*': message lacks '$expect': $msg"
+    local left; left=$(ls -A "$dir" | grep -v -e '^stdout.txt$' -e '^stderr.txt$')
+    [ -z "$left" ] || fail "'$*': left files: $left"
+}
+
+bad "--width must be > 0 (got -3)"           hex --width -3 --out p
+bad "--width must be > 0 (got 0)"            hex --width 0 --out p
+bad "--height must be a number (got abc)"    hex --height abc --out p
+bad "--rise must be > 0 (got -0.01)"         hex --rise=-0.01 --out p
+bad "unknown option --colour"                hex --colour red --out p
+bad "--axis-distance must be <= --width"     hex --axis-distance 4 --out p
+bad "--twist-length + --rise must be <= --height/2" hex --height 0.1 --out p
+bad "--node-mass must be a number > 0 or 'wire' (got heavy)" hex --node-mass heavy --out p
+bad "--areal-mass must be > 0 (got 0)"       hex --areal-mass 0 --out p
+bad "--snap must be < 0.5 (got 0.7)"         hex --snap 0.7 --out p
+bad "--out is required"                      hex --width 2
+bad "--width needs a value"                  hex --width
+bad "--zlo must be below the nodes (got 0.5)" hex --zlo 0.5 --out p
+bad "--cell must be <= --width (got 5 > 3)"  square --cell 5 --out p
+bad "--elements must be >= 1 (got 0)"        square --elements 0 --out p
+bad "--elements must be an integer (got 2.5)" square --elements 2.5 --out p
+bad "--rope-mass must be a number (got nan)" square --rope-mass nan --out p
+bad "--ties must be >= 0 (got -1)"           compound --ties -1 --out p
+bad "--hex-node-diameter must be > 0 (got -1)" compound --hex-node-diameter -1 --out p
+bad "--square-node-diameter must be a number (got x)" compound --square-node-diameter x --out p
+bad "--length must be > 0 (got -2)"          beam --length -2 --out p
+bad "--elements must be >= 1 (got 0)"        beam --elements 0 --out p
+bad "--density must be a number (got steel)" beam --density steel --out p
+bad "--radius must be > 0 (got 0)"           shape spheroid --radius 0 --out s.stl
+bad "--height must be > 0 (got -1)"          shape cone --height -1 --out s.stl
+bad "--resolution must be an integer (got fine)" shape cone --resolution fine --out s.stl
+bad "--resolution must be >= 8 (got 3)"      shape spheroid --resolution 3 --out s.stl
+bad "--corner-cut must be < --side/2 (got 0.3 >= 0.225)" shape truncated-cube --corner-cut 0.3 --out s.stl
+bad "--side must be > 0 (got -0.45)"         shape truncated-cube --side -0.45 --out s.stl
+bad "unknown shape blob"                     shape blob --out s.stl
+bad "unknown subcommand hexagon"             hexagon --out p
+bad "--out cannot write"                     hex --out "$WORK/no/such/dir/p"
+
+# --help on every subcommand: exit 0, options with units and defaults.
+for sub in hex square compound beam "shape spheroid" "shape cone" "shape truncated-cube"; do
+    out=$("$GEN" $sub --help 2>&1); rc=$?
+    [ $rc -eq 0 ] || fail "$sub --help exit $rc"
+    [[ "$out" == *"(default: "* && "$out" == *"[m]"* && "$out" == *"--out"* ]] || fail "$sub --help text"
+done
+
+# Good runs: both files, no temporary files, JSON parses, counts agree with the data file.
+dir="$WORK/good"; mkdir -p "$dir"; cd "$dir" || exit 1
+for sub in hex square compound beam; do
+    "$GEN" $sub --out "$sub" >/dev/null 2>err.txt || fail "$sub default run failed: $(cat err.txt)"
+    [ -s "$sub.data" ] && [ -s "$sub.json" ] || fail "$sub: missing output"
+    head -1 "$sub.data" | grep -q "^LIGGGHTS data file from wirenet-gen $sub" || fail "$sub: data header"
+    atoms=$(awk '/ atoms$/{print $1; exit}' "$sub.data")
+    grep -q "\"atoms\": $atoms," "$sub.json" || fail "$sub: json atom count differs from data ($atoms)"
+done
+for shape in spheroid cone truncated-cube; do
+    "$GEN" shape $shape --out "$shape.stl" >/dev/null || fail "shape $shape failed"
+    head -1 "$shape.stl" | grep -q "^solid" && tail -1 "$shape.stl" | grep -q "^endsolid" || fail "$shape: not ASCII STL"
+    [ -s "$shape.json" ] || fail "$shape: json missing"
+done
+grep -q '"inertia"' truncated-cube.json || fail "truncated-cube.json lacks the inertia tensor"
+left=$(ls -A | grep tmp)
+[ -z "$left" ] || fail "temporary files left: $left"
+# A failed run does not clobber an earlier good output.
+cp hex.data before.data
+"$GEN" hex --width -1 --out hex 2>/dev/null
+cmp -s hex.data before.data || fail "failed run modified an existing output"
+
+if [ "$fails" -ne 0 ]; then echo "$fails CLI checks failed"; exit 1; fi
+echo "all CLI checks passed"

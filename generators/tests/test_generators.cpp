@@ -1,0 +1,496 @@
+// Geometry invariants of the generators: closed-form counts, bond-length histograms,
+// symmetry, exact edges, masses, STL closure/orientation/volume, mass properties.
+#include <Eigen/Dense>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "Beam.h"
+#include "CompoundPanel.h"
+#include "HexPanel.h"
+#include "MeshWriter.h"
+#include "Shapes.h"
+#include "SquarePanel.h"
+#include "StlWriter.h"
+
+using namespace wirenet;
+
+static int failures = 0, checks = 0;
+#define CHECK(cond, ...)                                                      \
+    do {                                                                      \
+        ++checks;                                                             \
+        if (!(cond)) {                                                        \
+            ++failures;                                                       \
+            std::printf("FAIL %s:%d: %s | ", __FILE__, __LINE__, #cond);      \
+            std::printf(__VA_ARGS__);                                         \
+            std::printf("\n");                                                \
+        }                                                                     \
+    } while (0)
+#define CHECK_EQ(a, b) CHECK((a) == (b), "%s = %ld, expected %ld", #a, long(a), long(b))
+#define CHECK_NEAR(a, b, tol) CHECK(std::abs((a) - (b)) <= (tol), "%s = %.15g, expected %.15g", #a, double(a), double(b))
+
+// ---- helpers --------------------------------------------------------------------------------
+
+static long countType(const NetModel& m, int t) { return m.atomsPerType()[t]; }
+static long countBonds(const NetModel& m, int t) { return m.bondsPerType()[t]; }
+
+static double minNodeDistance(const NetModel& m) {
+    double d = 1e300;
+    for (size_t i = 0; i < m.nodes.size(); ++i)
+        for (size_t j = i + 1; j < m.nodes.size(); ++j) d = std::min(d, (m.nodes[i].x - m.nodes[j].x).norm());
+    return d;
+}
+
+// Node set and bond set are invariant under x -> -x and y -> -y (types preserved).
+static bool mirrorSymmetric(const NetModel& m, int axis) {
+    auto key = [](Eigen::Vector3d x) {
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "%.9f %.9f %.9f", x.x() + 0.0, x.y() + 0.0, x.z() + 0.0);
+        return std::string(buf);
+    };
+    std::map<std::string, int> index;
+    for (size_t i = 0; i < m.nodes.size(); ++i) index[key(m.nodes[i].x)] = int(i);
+    std::vector<int> image(m.nodes.size());
+    for (size_t i = 0; i < m.nodes.size(); ++i) {
+        Eigen::Vector3d x = m.nodes[i].x;
+        x[axis] = -x[axis];
+        auto it = index.find(key(x));
+        if (it == index.end() || m.nodes[it->second].type != m.nodes[i].type) return false;
+        image[i] = it->second;
+    }
+    std::set<std::tuple<int, int, int>> bonds;
+    for (const auto& b : m.bonds) bonds.insert({b.type, std::min(b.a, b.b), std::max(b.a, b.b)});
+    for (const auto& b : m.bonds) {
+        const int a = image[b.a], c = image[b.b];
+        if (!bonds.count({b.type, std::min(a, c), std::max(a, c)})) return false;
+    }
+    return true;
+}
+
+// Edge types lie exactly on their edges, interior types strictly inside.
+static bool edgesExact(const NetModel& m, double X, double Y, int interior, int ex, int ey, int corner) {
+    for (const auto& n : m.nodes) {
+        const double ax = std::abs(n.x.x()), ay = std::abs(n.x.y());
+        if (ax > X || ay > Y) return false;
+        const int expected = ax == X && ay == Y ? corner : ax == X ? ex : ay == Y ? ey : interior;
+        if (n.type != expected) return false;
+    }
+    return true;
+}
+
+static bool everyNodeBonded(const NetModel& m) {
+    std::vector<int> deg(m.nodes.size(), 0);
+    for (const auto& b : m.bonds) {
+        if (b.a == b.b) return false;
+        ++deg[b.a];
+        ++deg[b.b];
+    }
+    for (int d : deg)
+        if (d == 0) return false;
+    return true;
+}
+
+static bool noDuplicateBonds(const NetModel& m) {
+    std::set<std::pair<int, int>> s;
+    for (const auto& b : m.bonds)
+        if (!s.insert({std::min(b.a, b.b), std::max(b.a, b.b)}).second) return false;
+    return true;
+}
+
+// Lengths of one bond family, rounded to 1e-9 m, with their counts.
+static std::map<long, long> histogram(const NetModel& m, int type) {
+    std::map<long, long> h;
+    for (const auto& b : m.bonds)
+        if (b.type == type) ++h[std::lround(m.bondLength(b) * 1e9)];
+    return h;
+}
+static long nm(double len) { return std::lround(len * 1e9); }
+
+// ---- hexagonal panel ------------------------------------------------------------------------
+
+// Closed formulas (doc/wirenet-gen.md). Half-columns q = -Q..Q at x = q a/2, rows k at
+// y = k (t + h); c(k) = number of twists in row k = #{q in [-Q, Q], q = k mod 2}.
+struct HexCounts {
+    long nodes, dt, sw, selvedge, edgeX, edgeY, corners;
+};
+static long twistsInRow(long Q, long k) { return ((Q - k) % 2 == 0) ? Q + 1 : Q; }
+static long rowsOfParity(long n, long parity) {  // #{k in [-(n-1), n-1] : k = parity mod 2}
+    long c = 0;
+    for (long k = -(n - 1); k <= n - 1; ++k) c += (((k - parity) % 2) == 0);
+    return c;
+}
+// Family A: W = (2Q+1) a/2 (x-edges cut single wires at mid-length), H = 2 n (t+h) - t
+// (y-edges through the twist ends of rows +-n).
+static HexCounts hexFamilyA(long Q, long n) {
+    const long even = rowsOfParity(n, 0), odd = rowsOfParity(n, 1);
+    const long S = even * twistsInRow(Q, 0) + odd * twistsInRow(Q, 1), cn = twistsInRow(Q, n);
+    return {2 * S + 2 * cn + 4 * n + 4, S, 2 * n * (2 * Q + 2), 2 * cn + 4 * n + 4, 4 * n, 2 * cn, 4};
+}
+// Family B: W = 2Q a/2 (x-edges through twist columns +-Q), H as in family A.
+static HexCounts hexFamilyB(long Q, long n) {
+    const long even = rowsOfParity(n, 0), odd = rowsOfParity(n, 1);
+    const long S = even * twistsInRow(Q, 0) + odd * twistsInRow(Q, 1), cn = twistsInRow(Q, n);
+    const long RQ = rowsOfParity(n, Q % 2);
+    const bool cornerOnLattice = ((n - Q) % 2) == 0;
+    const long added = cornerOnLattice ? 0 : 4;
+    return {2 * S + 2 * cn + added,
+            S - 2 * RQ,
+            2 * n * 2 * Q,
+            2 * cn + 4 * RQ + added,
+            4 * RQ,
+            2 * cn - (cornerOnLattice ? 4 : 0),
+            4};
+}
+
+static void checkHexCounts(const NetModel& m, const HexCounts& c, const char* label) {
+    std::printf("  hex %-28s atoms %6zu bonds %6zu\n", label, m.nodes.size(), m.bonds.size());
+    CHECK_EQ(long(m.nodes.size()), c.nodes);
+    CHECK_EQ(countBonds(m, btype::DT), c.dt);
+    CHECK_EQ(countBonds(m, btype::SW), c.sw);
+    CHECK_EQ(countBonds(m, btype::Selvedge), c.selvedge);
+    CHECK_EQ(countType(m, atype::HexEdgeX), c.edgeX);
+    CHECK_EQ(countType(m, atype::HexEdgeY), c.edgeY);
+    CHECK_EQ(countType(m, atype::HexCorner), c.corners);
+}
+
+static void checkHexInvariants(const NetModel& m, const HexParams& p) {
+    const double X = p.width / 2, Y = p.height / 2;
+    CHECK(edgesExact(m, X, Y, 1, 2, 3, 4), "edge/corner nodes exactly on the edges");
+    CHECK(mirrorSymmetric(m, 0), "mirror symmetry x -> -x");
+    CHECK(mirrorSymmetric(m, 1), "mirror symmetry y -> -y");
+    CHECK(everyNodeBonded(m), "every node has a bond");
+    CHECK(noDuplicateBonds(m), "no duplicate bonds");
+    CHECK(minNodeDistance(m) >= p.snapTolerance() - 1e-12, "duplicate or too close nodes: %g",
+          minNodeDistance(m));
+    // Lattice bonds never exceed their nominal length (+ the snap move); none is a sliver.
+    for (const auto& b : m.bonds) {
+        const double len = m.bondLength(b);
+        const double nominal = b.type == btype::DT ? p.twistLength : b.type == btype::SW ? p.swLength() : 1e9;
+        CHECK(len >= p.snapTolerance() - 1e-12 && len <= nominal + p.snapTolerance() + 1e-12,
+              "bond type %d length %g", b.type, len);
+        // Bonds between interior nodes have exactly the cell geometry.
+        if (m.nodes[b.a].type == 1 && m.nodes[b.b].type == 1 && b.type != btype::Selvedge)
+            CHECK(std::abs(len - nominal) < 1e-12, "interior bond type %d length %g", b.type, len);
+    }
+    // Selvedge: a closed loop, every boundary node on exactly two selvedge bonds.
+    std::map<int, int> selv;
+    for (const auto& b : m.bonds)
+        if (b.type == btype::Selvedge) { ++selv[b.a]; ++selv[b.b]; }
+    long boundary = 0;
+    for (size_t i = 0; i < m.nodes.size(); ++i)
+        if (m.nodes[i].type != 1) {
+            ++boundary;
+            CHECK(selv[int(i)] == 2, "boundary node %zu has %d selvedge bonds", i, selv[int(i)]);
+        }
+    CHECK_EQ(countBonds(m, btype::Selvedge), boundary);
+}
+
+static void testHex() {
+    std::printf("hex panels\n");
+    HexParams base;
+    const double a = base.axisDistance, t = base.twistLength, pitch = base.rowPitch();
+    // Family A, several sizes (the first is the paper's 3 m x 3 m default).
+    const std::vector<std::pair<long, long>> A = {{37, 19}, {12, 6}, {20, 4}, {5, 3}, {24, 10}, {7, 2}};
+    for (auto [Q, n] : A) {
+        HexParams p;
+        p.width = (2 * Q + 1) * a / 2;
+        p.height = 2 * n * pitch - t;
+        const NetModel m = HexPanel(p).build();
+        char label[64];
+        std::snprintf(label, sizeof label, "A %.2f x %.2f (Q=%ld n=%ld)", p.width, p.height, Q, n);
+        checkHexCounts(m, hexFamilyA(Q, n), label);
+        checkHexInvariants(m, p);
+        // Histogram: every DT is a full twist; SW are full or cut exactly at mid-length.
+        const auto dt = histogram(m, btype::DT), sw = histogram(m, btype::SW);
+        CHECK(dt.size() == 1 && dt.count(nm(t)), "DT histogram has %zu bins", dt.size());
+        CHECK(sw.size() == 2, "SW histogram has %zu bins", sw.size());
+        CHECK_EQ(sw.count(nm(p.swLength())) ? sw.at(nm(p.swLength())) : 0, 4 * n * Q);
+        CHECK_EQ(sw.count(nm(p.swLength() / 2)) ? sw.at(nm(p.swLength() / 2)) : 0, 4 * n);
+    }
+    const std::vector<std::pair<long, long>> B = {{30, 8}, {25, 5}, {12, 7}, {9, 4}};
+    for (auto [Q, n] : B) {
+        HexParams p;
+        p.width = Q * a;
+        p.height = 2 * n * pitch - t;
+        const NetModel m = HexPanel(p).build();
+        char label[64];
+        std::snprintf(label, sizeof label, "B %.2f x %.2f (Q=%ld n=%ld)", p.width, p.height, Q, n);
+        checkHexCounts(m, hexFamilyB(Q, n), label);
+        checkHexInvariants(m, p);
+        const auto dt = histogram(m, btype::DT), sw = histogram(m, btype::SW);
+        CHECK(dt.size() == 1 && sw.size() == 1, "B: only full-length DT and SW bonds");
+    }
+    // Default panel: the paper's numbers, and generic sizes keep the invariants.
+    {
+        HexParams p;
+        const NetModel m = HexPanel(p).build();
+        CHECK_EQ(long(m.nodes.size()), 2930);
+        CHECK_NEAR(m.totalMass(), 2930 * 0.0039, 1e-12);
+        CHECK(std::abs(p.swLength() - 0.0565685424949238) < 1e-15, "SW length %g", p.swLength());
+        double minBond = 1e9;
+        for (const auto& b : m.bonds) minBond = std::min(minBond, m.bondLength(b));
+        CHECK(minBond > p.nodeDiameter, "no bond shorter than the node diameter (%g)", minBond);
+    }
+    for (auto [W, H] : std::vector<std::pair<double, double>>{{2.5, 1.7}, {3.13, 2.91}, {1.0, 1.0}, {4.4, 2.2}}) {
+        HexParams p;
+        p.width = W;
+        p.height = H;
+        const NetModel m = HexPanel(p).build();
+        std::printf("  hex generic %.2f x %.2f: atoms %zu bonds %zu\n", W, H, m.nodes.size(), m.bonds.size());
+        checkHexInvariants(m, p);
+    }
+    // Masses: requested areal mass is met exactly; wire mass rule is the steel volume.
+    {
+        HexParams p;
+        p.massRule = HexParams::Mass::Areal;
+        p.arealMass = 1.3;
+        const NetModel m = HexPanel(p).build();
+        CHECK_NEAR(m.totalMass(), 1.3 * 9.0, 1e-9);
+        p.massRule = HexParams::Mass::FromWire;
+        const NetModel w = HexPanel(p).build();
+        auto len = HexPanel::lengthPerType(w);
+        const double aw = M_PI / 4 * 0.0027 * 0.0027, as = M_PI / 4 * 0.0034 * 0.0034;
+        const double expect = 7850 * (aw * (2 * len[1] + len[2]) + as * len[3]);
+        CHECK_NEAR(w.totalMass(), expect, 1e-9);
+        CHECK(w.totalMass() / 9 > 1.0 && w.totalMass() / 9 < 1.6, "wire areal mass %g", w.totalMass() / 9);
+    }
+}
+
+// ---- square panel ---------------------------------------------------------------------------
+
+static void testSquare() {
+    std::printf("square panels\n");
+    struct Case { double W, H, c; int ne; };
+    for (const Case& cs : std::vector<Case>{{3, 3, 0.3, 3}, {2.4, 1.5, 0.3, 3}, {3, 3, 0.3, 1}, {1.8, 3.6, 0.3, 5}, {2.7, 2.1, 0.3, 2}}) {
+        SquareParams p;
+        p.width = cs.W;
+        p.height = cs.H;
+        p.cell = cs.c;
+        p.elements = cs.ne;
+        const NetModel m = SquarePanel(p).build();
+        const long nx = std::lround(cs.W / cs.c), ny = std::lround(cs.H / cs.c), ne = cs.ne;
+        const long segments = (ny + 1) * nx + (nx + 1) * ny;
+        std::printf("  square %.1f x %.1f, %d el: atoms %zu bonds %zu\n", cs.W, cs.H, cs.ne, m.nodes.size(), m.bonds.size());
+        CHECK_EQ(long(m.nodes.size()), (nx + 1) * (ny + 1) + (ne - 1) * segments);
+        CHECK_EQ(countBonds(m, btype::Rope), ne * segments);
+        CHECK_EQ(countType(m, atype::SqCorner), 4);
+        CHECK_EQ(countType(m, atype::SqEdgeX), 2 * (ny * ne - 1));
+        CHECK_EQ(countType(m, atype::SqEdgeY), 2 * (nx * ne - 1));
+        CHECK(edgesExact(m, cs.W / 2, cs.H / 2, 5, 6, 7, 8), "square edges exact");
+        CHECK(mirrorSymmetric(m, 0) && mirrorSymmetric(m, 1), "square symmetric");
+        CHECK(everyNodeBonded(m) && noDuplicateBonds(m), "square connectivity");
+        const auto h = histogram(m, btype::Rope);
+        CHECK(h.size() == 1 && h.count(nm(cs.c / ne)), "rope element lengths: %zu bins", h.size());
+        CHECK_NEAR(m.totalMass(), p.ropeMass * cs.c * segments, 1e-9);
+        CHECK(minNodeDistance(m) > 0.99 * cs.c / ne, "duplicate nodes");
+    }
+    // A panel that is not a whole number of cells: perimeter ropes on the edges, invariants hold.
+    SquareParams p;
+    p.width = 3.1;
+    p.height = 2.0;
+    const NetModel m = SquarePanel(p).build();
+    CHECK(edgesExact(m, 1.55, 1.0, 5, 6, 7, 8), "square generic edges exact");
+    CHECK(mirrorSymmetric(m, 0) && mirrorSymmetric(m, 1), "square generic symmetric");
+    double total = 0;
+    for (const auto& b : m.bonds) total += m.bondLength(b);
+    CHECK_NEAR(m.totalMass(), 0.4 * total, 1e-9);
+}
+
+// ---- compound, beam -------------------------------------------------------------------------
+
+static void testCompound() {
+    std::printf("compound panel\n");
+    CompoundParams p;
+    const NetModel hex = HexPanel(p.hex).build(), sq = SquarePanel(p.square).build();
+    const NetModel m = CompoundPanel(p).build();
+    CHECK_EQ(long(m.nodes.size()), long(hex.nodes.size() + sq.nodes.size()));
+    CHECK_EQ(long(m.bonds.size()), long(hex.bonds.size() + sq.bonds.size()));
+    const double zHex = 0.5 * (0.0108 + 0.010);
+    for (const auto& n : m.nodes) {
+        if (n.molecule == 1) CHECK(n.x.z() == zHex && n.type <= 4, "hex layer z/type");
+        else CHECK(n.molecule == 2 && n.x.z() == 0 && n.type >= 5, "square layer z/type");
+    }
+    CHECK(mirrorSymmetric(m, 0) && mirrorSymmetric(m, 1), "compound symmetric");
+    for (const auto& b : m.bonds) CHECK(m.nodes[b.a].molecule == m.nodes[b.b].molecule, "no inter-layer bond");
+    for (int k : {1, 2, 3, 4}) {
+        p.tieEvery = k;
+        CompoundPanel panel(p);
+        const NetModel t = panel.build();
+        const long expect = (9 / k) * (9 / k);  // 10 cells: interior lines 1..9
+        CHECK_EQ(panel.ties(), expect);
+        CHECK_EQ(long(t.bonds.size()), long(m.bonds.size()) + expect);
+        for (size_t b = m.bonds.size(); b < t.bonds.size(); ++b) {
+            const Bond& tie = t.bonds[b];
+            CHECK(tie.type == btype::SW && t.nodes[tie.a].molecule == 1 && t.nodes[tie.b].molecule == 2, "tie");
+            CHECK(t.bondLength(tie) < 0.06, "tie length %g", t.bondLength(tie));
+        }
+    }
+}
+
+static void testBeam() {
+    std::printf("beam\n");
+    for (int n : {1, 5, 11, 21}) {
+        BeamParams p;
+        p.elements = n;
+        const NetModel m = Beam(p).build();
+        CHECK_EQ(long(m.nodes.size()), n + 1);
+        CHECK_EQ(long(m.bonds.size()), n);
+        CHECK(m.nodes.front().type == 2 && m.nodes.back().type == 3 && m.nodes.back().x.x() == 2.0, "ends");
+        CHECK_EQ(countType(m, 1), n - 1);
+        CHECK_NEAR(m.totalMass(), 7850 * M_PI / 4 * 1e-4 * 2.0, 1e-12);
+        const auto h = histogram(m, 1);
+        CHECK(h.size() == 1 && h.count(nm(2.0 / n)), "beam element lengths");
+    }
+}
+
+// ---- shapes ---------------------------------------------------------------------------------
+
+// Closed two-manifold with consistent orientation: each directed edge once, its reverse once.
+static bool closedConsistent(const TriMesh& m) {
+    std::map<std::pair<int, int>, int> directed;
+    for (const auto& f : m.faces)
+        for (int e = 0; e < 3; ++e) ++directed[{f[e], f[(e + 1) % 3]}];
+    for (const auto& kv : directed) {
+        if (kv.second != 1) return false;
+        auto rev = directed.find({kv.first.second, kv.first.first});
+        if (rev == directed.end() || rev->second != 1) return false;
+    }
+    return true;
+}
+
+// Outward: positive volume and, the shapes being convex, every facet faces away from the centroid.
+static bool outward(const TriMesh& m) {
+    const MassProperties p = massProperties(m, 0);
+    if (!(p.volume > 0)) return false;
+    for (size_t f = 0; f < m.faces.size(); ++f) {
+        const auto& t = m.faces[f];
+        const Eigen::Vector3d c = (m.vertices[t[0]] + m.vertices[t[1]] + m.vertices[t[2]]) / 3.0;
+        if (m.normal(f).dot(c - p.centroid) <= 0) return false;
+    }
+    return true;
+}
+
+// Reads back an ASCII STL, merging vertices by their printed coordinates.
+static TriMesh readStl(const std::string& text) {
+    TriMesh m;
+    std::map<std::string, int> ids;
+    std::istringstream in(text);
+    std::string word;
+    std::array<int, 3> face{};
+    int k = 0;
+    while (in >> word) {
+        if (word != "vertex") continue;
+        std::string x, y, z;
+        in >> x >> y >> z;
+        const std::string key = x + " " + y + " " + z;
+        auto it = ids.find(key);
+        if (it == ids.end()) {
+            it = ids.emplace(key, int(m.vertices.size())).first;
+            m.vertices.emplace_back(std::stod(x), std::stod(y), std::stod(z));
+        }
+        face[k++] = it->second;
+        if (k == 3) { m.faces.push_back(face); k = 0; }
+    }
+    return m;
+}
+
+static void checkShape(const TriMesh& mesh, double analytic, const char* label) {
+    std::ostringstream os;
+    StlWriter::write(os, mesh, label);
+    const TriMesh back = readStl(os.str());
+    const MassProperties p = massProperties(back, 0);
+    std::printf("  %-28s facets %5zu volume %.6g (analytic %.6g, %+.3f %%)\n", label, back.faces.size(),
+                p.volume, analytic, 100 * (p.volume / analytic - 1));
+    CHECK(closedConsistent(back), "%s: closed with consistent orientation", label);
+    CHECK(outward(back), "%s: outward normals", label);
+    CHECK(std::abs(p.volume / analytic - 1) < 0.005, "%s: volume error %g", label, p.volume / analytic - 1);
+    // The written facet normals agree with the vertex order.
+    std::istringstream in(os.str());
+    std::string w;
+    size_t f = 0;
+    while (in >> w)
+        if (w == "normal") {
+            Eigen::Vector3d n;
+            in >> n.x() >> n.y() >> n.z();
+            CHECK(n.dot(back.normal(f)) > 0.999999, "%s: facet %zu normal", label, f);
+            ++f;
+        }
+}
+
+static void testShapes() {
+    std::printf("shapes\n");
+    for (int res : {64, 96, 256}) {
+        char l1[64], l2[64];
+        std::snprintf(l1, sizeof l1, "spheroid res %d", res);
+        std::snprintf(l2, sizeof l2, "cone res %d", res);
+        checkShape(ShapeBuilder::semiSpheroid(0.5, 0.15, res), ShapeBuilder::semiSpheroidVolume(0.5, 0.15), l1);
+        checkShape(ShapeBuilder::cone(0.34, 0.78, res), ShapeBuilder::coneVolume(0.34, 0.78), l2);
+    }
+    // Orientation conventions: base disc at z = 0, tip at -height.
+    const TriMesh sph = ShapeBuilder::semiSpheroid(0.5, 0.15, 96);
+    double zmin = 0, zmax = -1;
+    for (const auto& v : sph.vertices) { zmin = std::min(zmin, v.z()); zmax = std::max(zmax, v.z()); }
+    CHECK(zmin == -0.15 && zmax == 0.0, "spheroid z range %g %g", zmin, zmax);
+
+    for (double cut : {0.15, 0.1, 0.01, 0.2}) {
+        const TriMesh m = ShapeBuilder::truncatedCube(0.45, cut);
+        char label[64];
+        std::snprintf(label, sizeof label, "truncated cube cut %.2f", cut);
+        checkShape(m, ShapeBuilder::truncatedCubeVolume(0.45, cut), label);
+        CHECK_EQ(long(m.vertices.size()), 24);
+        CHECK_EQ(long(m.faces.size()), 8 + 6 * 6);
+        const MassProperties p = massProperties(m, 44.5);
+        CHECK_NEAR(p.volume, ShapeBuilder::truncatedCubeVolume(0.45, cut), 1e-14);
+        CHECK(p.centroid.norm() < 1e-15, "centroid %g", p.centroid.norm());
+        const double I = ShapeBuilder::truncatedCubeInertia(0.45, cut, 44.5);
+        CHECK((p.inertia - I * Eigen::Matrix3d::Identity()).norm() < 1e-12 * I, "inertia %g vs %g",
+              p.inertia(0, 0), I);
+    }
+    // Limit: a tiny cut gives the cube's m s^2 / 6.
+    CHECK_NEAR(ShapeBuilder::truncatedCubeInertia(0.45, 1e-6, 44.5), 44.5 * 0.45 * 0.45 / 6, 1e-9);
+    // Off-centre solid: mass properties move with it (parallel-axis theorem).
+    TriMesh shifted = ShapeBuilder::truncatedCube(0.45, 0.15);
+    for (auto& v : shifted.vertices) v += Eigen::Vector3d(1, -2, 3);
+    const MassProperties ps = massProperties(shifted, 44.5);
+    CHECK((ps.centroid - Eigen::Vector3d(1, -2, 3)).norm() < 1e-12, "shifted centroid");
+    CHECK(std::abs(ps.inertia(0, 0) - ShapeBuilder::truncatedCubeInertia(0.45, 0.15, 44.5)) < 1e-10, "shifted I");
+}
+
+// ---- writer ---------------------------------------------------------------------------------
+
+static void testWriter() {
+    std::printf("data file\n");
+    BeamParams bp;
+    const NetModel m = Beam(bp).build();
+    NetDescription d;
+    d.kind = "beam";
+    d.command = "beam --elements 5";
+    d.atomTypes = 3;
+    d.bondTypes = 1;
+    d.box.lo << -0.1, -0.1, -2;
+    d.box.hi << 2.1, 0.1, 2;
+    std::ostringstream os;
+    MeshWriter(m, d).writeData(os);
+    const std::string s = os.str();
+    CHECK(s.rfind("LIGGGHTS data file from wirenet-gen beam --elements 5\n\n6 atoms\n5 bonds\n3 atom types\n1 bond types\n", 0) == 0,
+          "header");
+    CHECK(s.find("\nAtoms\n\n1 2 0 0 0 0.01 ") != std::string::npos, "first atom line");
+    CHECK(s.find("\nBonds\n\n1 1 1 2\n") != std::string::npos, "first bond line");
+    CHECK(s.find("-0.1 2.1 xlo xhi\n") != std::string::npos, "box line");
+}
+
+int main() {
+    testHex();
+    testSquare();
+    testCompound();
+    testBeam();
+    testShapes();
+    testWriter();
+    std::printf("%d checks, %d failures\n", checks, failures);
+    return failures ? 1 : 0;
+}

@@ -1,0 +1,70 @@
+"""Small CSV reader/writer for the study files (numeric columns plus named text columns)."""
+
+import csv
+import io
+
+import numpy as np
+
+from .errors import PostprocessError, at
+from .output import write_text
+
+
+def read_csv(path, required=(), text_columns=("family", "case", "status")):
+    """Read a CSV with a header into {column: array}; numeric unless in ``text_columns``.
+
+    Errors (missing file, empty file, missing columns, ragged rows, non-numbers) name the file
+    and the line.
+    """
+    try:
+        with open(path, "r", encoding="utf-8", newline="") as handle:
+            rows = list(csv.reader(handle))
+    except OSError as exc:
+        raise PostprocessError(f"{path}: {exc.strerror}") from None
+    if not rows or not any(cell.strip() for cell in rows[0]):
+        raise at(path, 1, "empty file (no header)")
+    header = [cell.strip() for cell in rows[0]]
+    missing = [name for name in required if name not in header]
+    if missing:
+        raise at(path, 1, f"missing column{'s' if len(missing) > 1 else ''} "
+                          f"{', '.join(missing)}")
+    body = []
+    for number, row in enumerate(rows[1:], start=2):
+        if not row or not any(cell.strip() for cell in row):
+            continue
+        if len(row) != len(header):
+            raise at(path, number, f"expected {len(header)} columns, got {len(row)}")
+        body.append((number, row))
+    columns = {}
+    for index, name in enumerate(header):
+        cells = [row[index].strip() for _, row in body]
+        if name in text_columns:
+            columns[name] = np.array(cells, dtype=object)
+            continue
+        try:
+            columns[name] = np.array(cells, dtype=float) if cells else np.zeros(0)
+        except ValueError:
+            for number, row in body:
+                try:
+                    float(row[index])
+                except ValueError:
+                    raise at(path, number, f"column {name}: not a number: "
+                                           f"'{row[index].strip()}'") from None
+    return columns
+
+
+def format_number(value):
+    """Shortest faithful text for a float (integers without a decimal point)."""
+    value = float(value)
+    if value.is_integer() and abs(value) < 1e15:
+        return str(int(value))
+    return repr(value)
+
+
+def write_csv(path, header, rows):
+    """Write rows (sequences of str/float) atomically; floats via format_number."""
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(header)
+    for row in rows:
+        writer.writerow([cell if isinstance(cell, str) else format_number(cell) for cell in row])
+    write_text(path, buffer.getvalue())

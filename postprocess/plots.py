@@ -1,0 +1,222 @@
+"""The paper's figures (matplotlib, Agg backend), each saved as PREFIX.png and PREFIX.svg."""
+
+import os
+import sys
+
+import numpy as np
+
+from . import study
+from .csvio import read_csv
+from .errors import PostprocessError
+from .output import atomic_path
+
+FAMILY_COLOURS = {"DT": "tab:blue", "SW": "tab:orange", "selvedge": "tab:green",
+                  "rope": "tab:red", "beam": "tab:purple"}
+LINESTYLES = ("-", "--", ":", "-.")
+STUDY_FIGURES = {
+    "fig3_punch": (("punch_hex", "punch_compound"), ("DT", "SW"), "displacement",
+                   "Figure 3: punch tests, tension in the central zone"),
+    "fig5_impact_hex": (("impact_hex", "impact_compound"), ("DT", "SW"), "time",
+                        "Figure 5: impact, hexagonal mesh wires"),
+    "fig6_impact_square": (("impact_square", "impact_compound"), ("rope",), "time",
+                           "Figure 6: impact, strand-rope (square) mesh"),
+}
+
+
+def _pyplot():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def force_scale(values):
+    """(divisor, unit) so that the largest |force| reads in N, kN or MN."""
+    largest = max((float(np.max(np.abs(v))) for v in values if np.size(v)), default=0.0)
+    if largest >= 1e6:
+        return 1e6, "MN"
+    if largest >= 1e3:
+        return 1e3, "kN"
+    return 1.0, "N"
+
+
+def save(fig, prefix):
+    """Save PREFIX.png and PREFIX.svg atomically; return both paths."""
+    paths = []
+    for ext in ("png", "svg"):
+        path = f"{prefix}.{ext}"
+        with atomic_path(path, "." + ext) as tmp:
+            fig.savefig(tmp, format=ext, dpi=150)
+        paths.append(path)
+    _pyplot().close(fig)
+    return paths
+
+
+def figure_beam(beam, prefix, line=None):
+    """Figure 1: deflection (line, or tip deflection vs load) and NRMSE vs elements."""
+    plt = _pyplot()
+    fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4), layout="constrained")
+    elements = beam["elements"]
+    if line is not None:
+        groups = np.unique(line["elements"]) if "elements" in line else [None]
+        for n in groups:
+            rows = (line["elements"] == n) if n is not None else slice(None)
+            label = f"DEM, {int(n)} elements" if n is not None else "DEM"
+            left.plot(line["x"][rows], line["deflection"][rows], "o-", ms=3, label=label)
+        for key in ("analytic_deflection", "analytic"):
+            if key in line:
+                rows = line["elements"] == groups[-1] if groups[0] is not None else slice(None)
+                left.plot(line["x"][rows], line[key][rows], "k-", lw=1, label="analytic")
+                break
+        left.set_xlabel("position along the beam x [m]")
+        left.set_ylabel("deflection [m]")
+    else:
+        for n in np.unique(elements):
+            rows = elements == n
+            left.plot(beam["load"][rows], beam["tip_deflection"][rows], "o", label=f"DEM, "
+                      f"{int(n)} elements")
+        order = np.argsort(beam["load"])
+        left.plot(beam["load"][order], beam["analytic_deflection"][order], "k-", lw=1,
+                  label="analytic")
+        left.set_xlabel("tip load [N]")
+        left.set_ylabel("tip deflection [m]")
+    left.legend()
+    left.set_title("(a) deflection")
+    right.plot(elements, beam["nrmse"], "s-")
+    right.set_xlabel("number of elements [-]")
+    right.set_ylabel("NRMSE [-]")
+    right.set_title("(b) normalised RMS error")
+    fig.suptitle("Figure 1: beam tip-load test")
+    return save(fig, prefix)
+
+
+def figure_calibration(curves, prefix):
+    """Figure 2: platter force vs displacement, one curve per (label, displacement, force)."""
+    plt = _pyplot()
+    fig, axis = plt.subplots(figsize=(6, 4.5), layout="constrained")
+    scale, unit = force_scale([force for _, _, force in curves])
+    for label, displacement, force in curves:
+        axis.plot(displacement, force / scale, label=label)
+    axis.set_xlabel("platter displacement [m]")
+    axis.set_ylabel(f"platter force [{unit}]")
+    axis.legend(title="bending stiffness ratio")
+    axis.set_title("Figure 2: square-mesh cone punch, calibration")
+    return save(fig, prefix)
+
+
+def _families_to_plot(series, families):
+    if families:
+        return list(families)
+    found = []
+    for _, zone in series:
+        for name, data in zone.items():
+            if name not in found and (np.any(data["total"] != 0) or np.any(data["max"] != 0)):
+                found.append(name)
+    return found
+
+
+def figure_zone(series, prefix, x="time", families=None, title=None):
+    """Figures 3, 5, 6: (a) maximum and (b) total tension per family of several cases.
+
+    ``series``: list of (label, Case.zone() dict). Colour = family, line style = case.
+    """
+    plt = _pyplot()
+    families = _families_to_plot(series, families)
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5), layout="constrained")
+    for panel, key, name in ((axes[0], "max", "maximum"), (axes[1], "total", "total")):
+        values = [z[f][key] for _, z in series for f in families if f in z]
+        scale, unit = force_scale(values)
+        for index, (label, zone) in enumerate(series):
+            for family in families:
+                if family not in zone:
+                    continue
+                data = zone[family]
+                panel.plot(data[x], data[key] / scale, LINESTYLES[index % len(LINESTYLES)],
+                           color=FAMILY_COLOURS.get(family), label=f"{label}: {family}")
+        panel.set_xlabel("platter displacement [m]" if x == "displacement" else "time [s]")
+        panel.set_ylabel(f"{name} tensile force [{unit}]")
+        panel.set_title(f"({'a' if key == 'max' else 'b'}) {name} bond tension in the zone")
+        if values:
+            panel.legend(fontsize="small")
+    if title:
+        fig.suptitle(title)
+    return save(fig, prefix)
+
+
+def _case_label(path, labels, index):
+    if labels:
+        return labels[index]
+    return os.path.basename(os.path.dirname(os.path.abspath(path))) or path
+
+
+def study_figures(directory, cases=None):
+    """Every figure the case folders allow, in DIR/figures; returns {figure: [paths]}."""
+    cases = study.discover(directory) if cases is None else cases
+    out = os.path.join(directory, "figures")
+    written = {}
+    beams = [c for c in cases.values() if c.kind == "beam" and c.usable and "beam" in c.tables]
+    if beams:
+        line = _optional_line(beams[0].line_path())
+        written["fig1_beam"] = figure_beam(beams[0].tables["beam"],
+                                           os.path.join(out, "fig1_beam"), line)
+    calibration = study.calibration_cases(cases)
+    if calibration:
+        curves = [(_format_bending(c), c.tables["platter"]["displacement"],
+                   c.tables["platter"]["force"]) for c in calibration]
+        written["fig2_calibration"] = figure_calibration(curves,
+                                                         os.path.join(out, "fig2_calibration"))
+    for name, (wanted, families, x, title) in STUDY_FIGURES.items():
+        series = [(c, cases[c].zone()) for c in wanted
+                  if c in cases and cases[c].usable and "zone" in cases[c].tables]
+        if series:
+            written[name] = figure_zone(series, os.path.join(out, name), x, families, title)
+    return written
+
+
+def _optional_line(path):
+    """The beam's deflection-line CSV, or None (with a warning when it is unreadable)."""
+    if not path:
+        return None
+    try:
+        return read_csv(path, required=("x", "deflection"))
+    except PostprocessError as exc:
+        print(f"postprocess: warning: deflection line skipped: {exc}", file=sys.stderr)
+        return None
+
+
+def _format_bending(case):
+    return f"{case.bending:g}" if case.bending is not None else case.name
+
+
+def run(args):
+    """The ``plot`` subcommand."""
+    if args.figure == "study":
+        written = study_figures(args.dir)
+        for name, paths in written.items():
+            print(f"wrote {', '.join(paths)}")
+        if not written:
+            print(f"no figures: no usable case folders in {args.dir}")
+        return
+    labels = getattr(args, "labels", None)
+    if labels and len(labels) != len(args.csv):
+        raise PostprocessError(f"--labels: {len(labels)} labels for {len(args.csv)} files")
+    if args.figure == "beam":
+        beam = read_csv(args.csv, required=study.TABLES["beam"][1])
+        line = read_csv(args.line, required=("x", "deflection")) if args.line else None
+        paths = figure_beam(beam, args.out, line)
+    elif args.figure == "calibration":
+        curves = []
+        for index, path in enumerate(args.csv):
+            table = read_csv(path, required=study.TABLES["platter"][1])
+            label = labels[index] if labels else _format_bending(
+                study.load_case(os.path.dirname(os.path.abspath(path))))
+            curves.append((label, table["displacement"], table["force"]))
+        paths = figure_calibration(curves, args.out)
+    else:
+        series = []
+        for index, path in enumerate(args.csv):
+            case = study.Case(_case_label(path, labels, index), os.path.dirname(path))
+            case.tables["zone"] = read_csv(path, required=study.TABLES["zone"][1])
+            series.append((case.name, case.zone()))
+        paths = figure_zone(series, args.out, args.x, args.families, args.title)
+    print(f"wrote {', '.join(paths)}")

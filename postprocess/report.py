@@ -1,0 +1,288 @@
+"""DIR/report.md and DIR/summary.json: per-case peaks, the paper's three claims, the figures.
+
+Only numbers read from the case files are reported; absent or not-implemented cases are listed as
+such and a claim whose cases are absent is "not evaluated (case missing)".
+"""
+
+import json
+import os
+
+import numpy as np
+
+from . import study
+from .output import write_text
+
+DEFAULT_EXPECTED = ("punch_hex", "punch_compound", "impact_hex", "impact_square",
+                    "impact_compound")
+HEX_CASES = ("punch_hex", "punch_compound", "impact_hex", "impact_compound")
+NOT_EVALUATED = "not evaluated (case missing)"
+CLAIMS = {
+    1: "DT (double-twist) bonds carry the highest individual force (peak max_tension DT > SW).",
+    2: "SW (single-wire) bonds carry most of the total force (peak total_tension SW > DT).",
+    3: "Under impact, the compound panel lowers the peak force in the strand-rope mesh "
+       "(peak total_tension of family rope: impact_compound < impact_square).",
+}
+
+
+# --- numbers per case -----------------------------------------------------------------------
+
+def _peak_abs(values):
+    values = np.abs(np.asarray(values, dtype=float))
+    return float(values.max()) if values.size else None
+
+
+def _peak_with_time(values, times):
+    if not len(values):
+        return None, None
+    index = int(np.argmax(values))
+    return float(values[index]), float(times[index])
+
+
+def zone_peaks(case):
+    """{family: peak total / max tension and their times} of a case's zone_forces.csv."""
+    result = {}
+    for family, data in case.zone().items():
+        total, total_time = _peak_with_time(data["total"], data["time"])
+        largest, largest_time = _peak_with_time(data["max"], data["time"])
+        result[family] = {"peak_total_tension": total, "time_of_peak_total": total_time,
+                          "peak_max_tension": largest, "time_of_peak_max": largest_time}
+    return result
+
+
+def case_summary(case):
+    """The numbers of one case (None where the file or the value is absent)."""
+    summary = {"kind": case.kind, "status": case.status, "errors": list(case.errors),
+               "files": sorted(study.TABLES[k][0] for k in case.tables)}
+    if case.status == "not-implemented":
+        return summary
+    tables = case.tables
+    summary["peak_platter_force"] = _peak_abs(tables["platter"]["force"]) \
+        if "platter" in tables else None
+    summary["peak_block_force"] = _peak_abs(tables["block"]["force"]) \
+        if "block" in tables else None
+    summary["zone"] = zone_peaks(case)
+    if "beam" in tables:
+        beam = tables["beam"]
+        summary["beam"] = [dict(zip(study.TABLES["beam"][1], map(float, row)))
+                           for row in zip(*(beam[c] for c in study.TABLES["beam"][1]))]
+        summary["beam_max_nrmse"] = _peak_abs(beam["nrmse"])
+    for key in ("first_rupture", "edge_force_peak", "wall_time"):
+        summary[key] = case.meta.get(key)
+    return summary
+
+
+# --- claims ---------------------------------------------------------------------------------
+
+def _family_peak(summary, family, key):
+    entry = summary.get("zone", {}).get(family)
+    return None if entry is None else entry[key]
+
+
+def _usable(cases, name):
+    case = cases.get(name)
+    return case is not None and case.usable and "zone" in case.tables
+
+
+def _absence(cases, name):
+    case = cases.get(name)
+    if case is None:
+        return "case missing"
+    if case.status != "ok":
+        return f"case {case.status}"
+    if case.errors:
+        return "unreadable files"
+    return "no zone_forces.csv"
+
+
+def _verdict(holds):
+    return ("supported" if all(holds) else "not supported"), all(holds)
+
+
+def claim_dt_sw(number, cases, summaries, key, stronger, weaker):
+    """Claims 1 and 2: family ``stronger`` beats ``weaker`` on peak ``key`` in every hex case."""
+    evidence, notes = [], []
+    for name in HEX_CASES:
+        if not _usable(cases, name):
+            notes.append(f"{name}: not evaluated ({_absence(cases, name)})")
+            continue
+        a = _family_peak(summaries[name], stronger, key)
+        b = _family_peak(summaries[name], weaker, key)
+        if a is None or b is None or (a == 0 and b == 0):
+            notes.append(f"{name}: not evaluated (no {stronger}/{weaker} forces)")
+            continue
+        evidence.append({"case": name, stronger: a, weaker: b, "holds": bool(a > b)})
+    return _claim(number, evidence, notes, any(_usable(cases, n) for n in HEX_CASES))
+
+
+def claim_rope(cases, summaries):
+    """Claim 3: rope peak total tension lower in impact_compound than in impact_square."""
+    evidence, notes = [], []
+    missing = [n for n in ("impact_square", "impact_compound") if not _usable(cases, n)]
+    for name in missing:
+        notes.append(f"{name}: not evaluated ({_absence(cases, name)})")
+    if not missing:
+        square = summaries["impact_square"].get("zone", {}).get("rope")
+        compound = summaries["impact_compound"].get("zone", {}).get("rope")
+        if square is None or compound is None:
+            notes.append("not evaluated (no rope family in the zone forces)")
+        else:
+            evidence.append({
+                "square_peak_total": square["peak_total_tension"],
+                "compound_peak_total": compound["peak_total_tension"],
+                "square_peak_max": square["peak_max_tension"],
+                "compound_peak_max": compound["peak_max_tension"],
+                "holds": bool(compound["peak_total_tension"] < square["peak_total_tension"])})
+    return _claim(3, evidence, notes, not missing)
+
+
+def _claim(number, evidence, notes, present):
+    """``present``: some needed case exists and is usable (but may lack the family data)."""
+    if evidence:
+        verdict, supported = _verdict([e["holds"] for e in evidence])
+    else:
+        verdict = "not evaluated (no data)" if present else NOT_EVALUATED
+        supported = None
+    return {"id": number, "statement": CLAIMS[number], "verdict": verdict,
+            "supported": supported, "evidence": evidence, "notes": notes}
+
+
+def evaluate_claims(cases, summaries):
+    return [claim_dt_sw(1, cases, summaries, "peak_max_tension", "DT", "SW"),
+            claim_dt_sw(2, cases, summaries, "peak_total_tension", "SW", "DT"),
+            claim_rope(cases, summaries)]
+
+
+# --- expected cases -------------------------------------------------------------------------
+
+def missing_cases(cases, expected=None):
+    """Names (or groups) of expected cases absent from the directory."""
+    missing = []
+    if expected is None:
+        if not any(c.kind == "beam" for c in cases.values()):
+            missing.append("beam (no beam case)")
+        if not any(c.kind == "calibration" for c in cases.values()):
+            missing.append("calibration (no calib* case)")
+        expected = DEFAULT_EXPECTED
+    missing += [name for name in expected if name not in cases]
+    return missing
+
+
+# --- markdown -------------------------------------------------------------------------------
+
+def fmt(value, unit=""):
+    """A number with 4 significant digits (and unit); n/a for None; other values as text."""
+    if value is None:
+        return "n/a"
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return str(value)
+    return f"{value:.4g}{(' ' + unit) if unit else ''}"
+
+
+def _table(header, rows):
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    lines += ["| " + " | ".join(row) + " |" for row in rows]
+    return lines
+
+
+def _case_rows(summaries):
+    for name, s in summaries.items():
+        status = s["status"] + (" (unreadable: " + "; ".join(s["errors"]) + ")"
+                                if s["errors"] else "")
+        if s["status"] == "not-implemented":
+            yield [name, s["kind"], "not implemented"] + ["n/a"] * 5
+            continue
+        yield [name, s["kind"], status, fmt(s["peak_platter_force"]), fmt(s["peak_block_force"]),
+               fmt(s["first_rupture"]), fmt(s["edge_force_peak"]), fmt(s["wall_time"])]
+
+
+def _zone_rows(summaries):
+    for name, s in summaries.items():
+        for family, z in s.get("zone", {}).items():
+            yield [name, family, fmt(z["peak_total_tension"]), fmt(z["time_of_peak_total"]),
+                   fmt(z["peak_max_tension"]), fmt(z["time_of_peak_max"])]
+
+
+def _claim_lines(claim):
+    lines = [f"{claim['id']}. {claim['statement']}  ", f"   Verdict: **{claim['verdict']}**"]
+    for e in claim["evidence"]:
+        if claim["id"] == 3:
+            lines.append(f"   - impact_square rope: peak total {fmt(e['square_peak_total'], 'N')}, "
+                         f"peak max {fmt(e['square_peak_max'], 'N')}; impact_compound rope: "
+                         f"peak total {fmt(e['compound_peak_total'], 'N')}, peak max "
+                         f"{fmt(e['compound_peak_max'], 'N')} -> "
+                         f"{'holds' if e['holds'] else 'does not hold'}")
+        else:
+            a, b = [k for k in e if k not in ("case", "holds")]
+            lines.append(f"   - {e['case']}: {a} {fmt(e[a], 'N')} vs {b} {fmt(e[b], 'N')} -> "
+                         f"{'holds' if e['holds'] else 'does not hold'}")
+    lines += [f"   - {note}" for note in claim["notes"]]
+    return lines
+
+
+def markdown(directory, summaries, claims, missing, figures):
+    lines = ["# WireNet study report", "", f"Study directory: `{os.path.abspath(directory)}`", "",
+             "## Cases", "", "Peak forces are the largest |force| of platter.csv / block.csv; "
+             "first rupture, edge-force peak and wall time come from case.json (n/a: not "
+             "recorded).", ""]
+    lines += _table(["case", "kind", "status", "peak platter force [N]", "peak block force [N]",
+                     "first rupture [s]", "edge-force peak [N]", "wall time [s]"],
+                    list(_case_rows(summaries)))
+    lines += ["", "## Tension in the central zone (zone_forces.csv)", ""]
+    zone_rows = list(_zone_rows(summaries))
+    lines += _table(["case", "family", "peak total tension [N]", "at time [s]",
+                     "peak max tension [N]", "at time [s]"], zone_rows) if zone_rows else \
+        ["No zone_forces.csv found."]
+    beams = {n: s for n, s in summaries.items() if s.get("beam")}
+    for name, s in beams.items():
+        lines += ["", f"## Beam check ({name})", ""]
+        lines += _table(["elements", "load [N]", "tip deflection [m]", "analytic [m]",
+                         "NRMSE [-]"],
+                        [[fmt(r["elements"]), fmt(r["load"]), fmt(r["tip_deflection"]),
+                          fmt(r["analytic_deflection"]), fmt(r["nrmse"])] for r in s["beam"]])
+    lines += ["", "## The paper's claims", ""]
+    for claim in claims:
+        lines += _claim_lines(claim)
+    lines += ["", "## Missing or not implemented cases", ""]
+    absent = [f"- {name}: missing" for name in missing]
+    absent += [f"- {n}: not implemented" for n, s in summaries.items()
+               if s["status"] == "not-implemented"]
+    absent += [f"- {n}: status {s['status']}" for n, s in summaries.items()
+               if s["status"] not in ("ok", "not-implemented")]
+    lines += absent or ["None."]
+    lines += ["", "## Figures", ""]
+    for name, paths in figures.items():
+        png = os.path.relpath(paths[0], directory)
+        lines += [f"![{name}]({png})", ""]
+    if not figures:
+        lines.append("No figures.")
+    return "\n".join(lines) + "\n"
+
+
+def build(directory, expected=None, figures=True):
+    """Write DIR/report.md and DIR/summary.json; return the summary dict."""
+    cases = study.discover(directory)
+    summaries = {name: case_summary(case) for name, case in cases.items()}
+    claims = evaluate_claims(cases, summaries)
+    missing = missing_cases(cases, expected)
+    written = {}
+    if figures:
+        from .plots import study_figures
+        written = study_figures(directory, cases)
+    summary = {"generator": "postprocess report", "cases": summaries, "missing": missing,
+               "not_implemented": [n for n, s in summaries.items()
+                                   if s["status"] == "not-implemented"],
+               "claims": claims,
+               "figures": {k: [os.path.relpath(p, directory) for p in v]
+                           for k, v in written.items()}}
+    write_text(os.path.join(directory, "summary.json"), json.dumps(summary, indent=2) + "\n")
+    write_text(os.path.join(directory, "report.md"),
+               markdown(directory, summaries, claims, missing, written))
+    return summary
+
+
+def run(args):
+    """The ``report`` subcommand."""
+    summary = build(args.dir, args.expect, not args.no_figures)
+    for claim in summary["claims"]:
+        print(f"claim {claim['id']}: {claim['verdict']}")
+    print(f"wrote {os.path.join(args.dir, 'report.md')} and summary.json")

@@ -1,0 +1,206 @@
+"""postprocess plot / report on small synthetic case folders: files, numbers and the claims."""
+
+import json
+import sys
+from pathlib import Path
+
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+
+from postprocess.__main__ import main  # noqa: E402
+
+FIGURES = ("fig1_beam", "fig2_calibration", "fig3_punch", "fig5_impact_hex",
+           "fig6_impact_square")
+TIMES = (0.0, 0.1, 0.2)
+
+
+def write_zone(folder, peaks):
+    """zone_forces.csv whose family rises to (peak total, peak max) at t = 0.1 and falls."""
+    folder.mkdir(parents=True, exist_ok=True)
+    lines = ["time,displacement,family,total_tension,max_tension,bonds"]
+    for i, time in enumerate(TIMES):
+        factor = (0.0, 1.0, 0.5)[i]
+        for family, (total, largest) in peaks.items():
+            lines.append(f"{time},{time / 10},{family},{total * factor},{largest * factor},7")
+    (folder / "zone_forces.csv").write_text("\n".join(lines) + "\n")
+
+
+def write_csv(path, header, rows):
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(header + "\n" + "".join(",".join(map(str, r)) + "\n" for r in rows))
+
+
+def make_study(root, hex_peaks=None, rope=(4e5, 9e3), square_rope=(5e5, 1e4), skip=()):
+    """A study folder in which all three claims hold unless the peaks say otherwise."""
+    hex_peaks = hex_peaks or {}
+    default = {"DT": (1000.0, 120.0), "SW": (3000.0, 80.0)}
+    for name in ("punch_hex", "punch_compound", "impact_hex", "impact_compound"):
+        if name in skip:
+            continue
+        peaks = dict(hex_peaks.get(name, default))
+        if name.endswith("compound"):
+            peaks["rope"] = rope
+        write_zone(root / name, peaks)
+    if "impact_square" not in skip:
+        write_zone(root / "impact_square", {"rope": square_rope})
+    for name in ("punch_hex", "punch_compound"):
+        if name not in skip:
+            write_csv(root / name / "platter.csv", "time,displacement,force",
+                      [(0, 0, 0), (10, 0.1, 2.5e5), (20, 0.2, -3e5)])
+    for name in ("impact_hex", "impact_compound", "impact_square"):
+        if name not in skip:
+            write_csv(root / name / "block.csv", "time,x,y,z,vx,vy,vz,force",
+                      [(0, 0, 0, 1, 0, 0, -10, 0), (0.1, 0, 0, 0, 0, 0, 0, 7.5e5)])
+    if "impact_hex" not in skip:
+        (root / "impact_hex" / "case.json").write_text(json.dumps(
+            {"wall_time": 12.5, "first_rupture": 0.031, "edge_force_peak": 2.5e5,
+             "status": "ok"}))
+    if "calibration" not in skip:
+        for fraction in ("0", "0.05"):
+            write_csv(root / f"calib_{fraction}" / "platter.csv", "time,displacement,force",
+                      [(0, 0, 0), (1, 0.1, 1e4 * (1 + float(fraction)))])
+        (root / "calib_0.05" / "case.json").write_text(json.dumps({"bending": 0.05}))
+    if "beam" not in skip:
+        write_csv(root / "beam" / "beam.csv", "elements,load,tip_deflection,"
+                  "analytic_deflection,nrmse",
+                  [(5, 10, 0.0101, 0.01, 0.02), (11, 10, 0.01004, 0.01, 0.005),
+                   (21, 10, 0.01001, 0.01, 0.001)])
+        write_csv(root / "beam" / "deflection.csv", "elements,x,deflection,analytic_deflection",
+                  [(5, 0, 0, 0), (5, 1, 0.004, 0.0039), (5, 2, 0.0101, 0.01)])
+    return root
+
+
+def report(root, figures=False):
+    args = ["report", str(root)] + ([] if figures else ["--no-figures"])
+    assert main(args) == 0
+    summary = json.loads((root / "summary.json").read_text())
+    return summary, (root / "report.md").read_text()
+
+
+def verdicts(summary):
+    return [(c["verdict"], c["supported"]) for c in summary["claims"]]
+
+
+def test_full_report_with_figures(tmp_path):
+    summary, text = report(make_study(tmp_path), figures=True)
+    for name in FIGURES:
+        for ext in ("png", "svg"):
+            path = tmp_path / "figures" / f"{name}.{ext}"
+            assert path.stat().st_size > 1000, path
+        assert (tmp_path / "figures" / f"{name}.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+        assert "<svg" in (tmp_path / "figures" / f"{name}.svg").read_text()[:2000]
+        assert f"![{name}](figures/{name}.png)" in text
+    assert verdicts(summary) == [("supported", True)] * 3
+    assert summary["missing"] == [] and summary["not_implemented"] == []
+    hexcase = summary["cases"]["impact_hex"]
+    assert (hexcase["wall_time"], hexcase["first_rupture"], hexcase["edge_force_peak"]) == (
+        12.5, 0.031, 2.5e5)
+    assert hexcase["peak_block_force"] == 7.5e5
+    assert summary["cases"]["punch_hex"]["peak_platter_force"] == 3e5
+    assert summary["cases"]["punch_hex"]["peak_block_force"] is None
+    assert summary["cases"]["impact_compound"]["zone"]["rope"] == {
+        "peak_total_tension": 4e5, "time_of_peak_total": 0.1,
+        "peak_max_tension": 9e3, "time_of_peak_max": 0.1}
+    assert summary["cases"]["beam"]["beam_max_nrmse"] == 0.02
+    assert summary["cases"]["calib_0.05"]["kind"] == "calibration"
+    assert "| impact_hex | impact | ok | n/a | 7.5e+05 | 0.031 | 2.5e+05 | 12.5 |" in text
+    assert "| impact_square | rope | 5e+05 | 0.1 | 1e+04 | 0.1 |" in text
+    assert "   - punch_hex: DT 120 N vs SW 80 N -> holds" in text
+    assert text.count("**supported**") == 3
+
+
+def test_claim_1_false(tmp_path):
+    flipped = {"punch_compound": {"DT": (1000.0, 70.0), "SW": (3000.0, 80.0)}}
+    summary, text = report(make_study(tmp_path, hex_peaks=flipped))
+    assert verdicts(summary) == [("not supported", False), ("supported", True),
+                                 ("supported", True)]
+    evidence = summary["claims"][0]["evidence"]
+    assert [(e["case"], e["holds"]) for e in evidence] == [
+        ("punch_hex", True), ("punch_compound", False), ("impact_hex", True),
+        ("impact_compound", True)]
+    assert "   - punch_compound: DT 70 N vs SW 80 N -> does not hold" in text
+
+
+def test_claim_2_false(tmp_path):
+    flipped = {"impact_hex": {"DT": (4000.0, 120.0), "SW": (3000.0, 80.0)}}
+    summary, _ = report(make_study(tmp_path, hex_peaks=flipped))
+    assert verdicts(summary) == [("supported", True), ("not supported", False),
+                                 ("supported", True)]
+
+
+def test_claim_3_false(tmp_path):
+    summary, text = report(make_study(tmp_path, rope=(6e5, 9e3)))
+    assert verdicts(summary)[2] == ("not supported", False)
+    assert summary["claims"][2]["evidence"][0]["compound_peak_total"] == 6e5
+    assert summary["claims"][2]["evidence"][0]["square_peak_total"] == 5e5
+    assert "**not supported**" in text
+
+
+def test_missing_cases_not_evaluated(tmp_path):
+    skip = ("punch_compound", "impact_hex", "impact_compound", "impact_square", "beam",
+            "calibration")
+    summary, text = report(make_study(tmp_path, skip=skip))
+    assert verdicts(summary) == [("supported", True), ("supported", True),
+                                 ("not evaluated (case missing)", None)]
+    assert "impact_hex: not evaluated (case missing)" in summary["claims"][0]["notes"]
+    assert summary["missing"] == ["beam (no beam case)", "calibration (no calib* case)",
+                                  "punch_compound", "impact_hex", "impact_square",
+                                  "impact_compound"]
+    assert "- impact_square: missing" in text
+    assert "**not evaluated (case missing)**" in text
+
+
+def test_empty_study_evaluates_nothing(tmp_path):
+    summary, text = report(tmp_path)
+    assert verdicts(summary) == [("not evaluated (case missing)", None)] * 3
+    assert summary["cases"] == {}
+    assert "No figures." in text or "## Figures" in text
+
+
+def test_not_implemented_case(tmp_path):
+    make_study(tmp_path, skip=("impact_square",))
+    (tmp_path / "impact_square").mkdir()
+    (tmp_path / "impact_square" / "case.json").write_text('{"status": "not-implemented"}')
+    summary, text = report(tmp_path)
+    assert verdicts(summary)[2] == ("not evaluated (case missing)", None)
+    assert summary["claims"][2]["notes"] == ["impact_square: not evaluated (case "
+                                             "not-implemented)"]
+    assert summary["not_implemented"] == ["impact_square"]
+    assert "- impact_square: not implemented" in text
+    assert "| impact_square | impact | not implemented |" in text
+
+
+def test_unreadable_case_is_reported_not_used(tmp_path):
+    make_study(tmp_path)
+    (tmp_path / "impact_square" / "zone_forces.csv").write_text(
+        "time,displacement,family,total_tension,max_tension,bonds\n0,0,rope,1\n")
+    summary, text = report(tmp_path)
+    assert verdicts(summary)[2] == ("not evaluated (case missing)", None)
+    errors = summary["cases"]["impact_square"]["errors"]
+    assert len(errors) == 1 and errors[0].endswith("zone_forces.csv:2: expected 6 columns, got 4")
+    assert "unreadable" in text
+
+
+def test_plot_subcommands(tmp_path):
+    make_study(tmp_path)
+    out = tmp_path / "plots"
+    assert main(["plot", "beam", str(tmp_path / "beam" / "beam.csv"), "--line",
+                 str(tmp_path / "beam" / "deflection.csv"), "-o", str(out / "beam")]) == 0
+    assert main(["plot", "calibration", str(tmp_path / "calib_0" / "platter.csv"),
+                 str(tmp_path / "calib_0.05" / "platter.csv"), "-o", str(out / "calib")]) == 0
+    assert main(["plot", "zone", str(tmp_path / "punch_hex" / "zone_forces.csv"),
+                 str(tmp_path / "punch_compound" / "zone_forces.csv"), "--x", "displacement",
+                 "--families", "DT", "SW", "--labels", "hex", "compound",
+                 "-o", str(out / "punch")]) == 0
+    for name in ("beam", "calib", "punch"):
+        assert (out / f"{name}.png").read_bytes()[:4] == b"\x89PNG"
+        assert (out / f"{name}.svg").stat().st_size > 1000
+
+
+def test_plot_labels_count_mismatch(tmp_path, capsys):
+    make_study(tmp_path, skip=("beam",))
+    code = main(["plot", "zone", str(tmp_path / "punch_hex" / "zone_forces.csv"), "--labels",
+                 "a", "b", "-o", str(tmp_path / "x")])
+    assert code == 2
+    assert capsys.readouterr().err == "postprocess plot: error: --labels: 2 labels for 1 files\n"
+    assert not list(tmp_path.glob("x.*"))

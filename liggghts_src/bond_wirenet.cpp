@@ -22,7 +22,7 @@ using namespace WireNet;
 
 static const char HISTORY_FIX_ID[] = "wirenet_bonds";
 
-BondWirenet::BondWirenet(LAMMPS *lmp) : Bond(lmp), list_version(-1), history(NULL) {}
+BondWirenet::BondWirenet(LAMMPS *lmp) : Bond(lmp), list_version(-1), history(NULL), any_beam(0) {}
 
 BondWirenet::~BondWirenet()
 {
@@ -37,6 +37,7 @@ void BondWirenet::allocate()
   for (int t = 0; t <= n; t++) setflag[t] = 0;
   specs.assign(n + 1, BondTypeSpec());
   wires.resize(n + 1);
+  beams.resize(n + 1);
 }
 
 void BondWirenet::settings(int narg, char **)
@@ -48,6 +49,7 @@ void BondWirenet::set_type(int type, const BondTypeSpec &spec)
 {
   specs[type] = spec;
   wires[type].reset(spec.kind == LawKind::WIRE ? new WireLaw(spec.wire) : nullptr);
+  beams[type].reset(spec.kind == LawKind::BEAM ? new BeamLaw(spec.beam) : nullptr);
   setflag[type] = 1;
 }
 
@@ -93,9 +95,14 @@ void BondWirenet::init_style()
   ensure_history_fix();
 
   // Ghost atoms must reach across the longest bond at its largest stretch before rupture.
+  // Beams do not rupture; 1.5 covers any stretch a rope survives in practice.
   double stretch = 1.0;
-  for (int t = 1; t <= atom->nbondtypes; t++)
+  any_beam = 0;
+  for (int t = 1; t <= atom->nbondtypes; t++) {
     if (wires[t]) stretch = fmax(stretch, wires[t]->max_stretch());
+    if (beams[t]) { stretch = fmax(stretch, 1.5); any_beam = 1; }
+  }
+  if (any_beam) history->use_orientations();
   const double lmax = history->max_bond_length_global();
   history->set_ghost_extent(lmax * stretch);
   if (comm->me == 0) report_types();
@@ -126,6 +133,13 @@ void BondWirenet::report_types()
                "bond_style wirenet: type %d wire (%s): d = %g m, A = %g m^2, %zu curve points, rupture strain %g%s%s\n",
                t, s.family.c_str(), s.wire.diameter, w.area(), s.wire.strain.size(), s.wire.strain.back(),
                s.wire.derived ? ", derived double twist" : "", s.wire.slack ? ", random slack" : "");
+    }
+    if (s.kind == LawKind::BEAM) {
+      const BeamLawParams &b = s.beam;
+      snprintf(line, sizeof(line),
+               "bond_style wirenet: type %d beam (%s): d = %g m, E = %g Pa, nu = %g, bending %g EI, twist %g GJ, shear %s\n",
+               t, s.family.c_str(), b.diameter, b.young, b.nu, b.bending, b.twist < 0 ? b.bending : b.twist,
+               b.shear == ShearModel::EULER_BERNOULLI ? "eb (12 f EI/L0^3)" : "pb (GA/L0)");
     }
     if (screen) fputs(line, screen);
     if (logfile) fputs(line, logfile);
@@ -160,7 +174,58 @@ void BondWirenet::init_record(const Entry &e, double length)
              atom->tag[e.i], atom->tag[e.j]);
     error->one(FLERR, msg);
   }
-  wires[e.type]->init_bond(e.h, length, atom->tag[e.i], atom->tag[e.j]);
+  if (wires[e.type]) {
+    wires[e.type]->init_bond(e.h, length, atom->tag[e.i], atom->tag[e.j]);
+  } else {
+    const double *q = history->orientation(e.i), *p = history->orientation(e.j);
+    beams[e.type]->init_bond(e.h, Eigen::Vector3d(atom->x[e.i]), Eigen::Vector3d(atom->x[e.j]),
+                             Eigen::Quaterniond(q[0], q[1], q[2], q[3]), Eigen::Quaterniond(p[0], p[1], p[2], p[3]));
+  }
+}
+
+inline void BondWirenet::compute_wire(const Entry &e, double dx, double dy, double dz, double r, int eflag)
+{
+  double *h = e.h;
+  double tension;
+  if (!wires[e.type]->tension(r - h[W_L0], h, tension)) {
+    double **x = atom->x;
+    const double mid[3] = { x[e.i][0] + 0.5 * dx, x[e.i][1] + 0.5 * dy, x[e.i][2] + 0.5 * dz };
+    history->break_bond(e.i, e.m, mid, r - h[W_L0]);
+    return;
+  }
+  if (tension == 0.0) return;
+  const double fr = tension / r;
+  double **f = atom->f;
+  f[e.i][0] += fr * dx; f[e.i][1] += fr * dy; f[e.i][2] += fr * dz;
+  f[e.j][0] -= fr * dx; f[e.j][1] -= fr * dy; f[e.j][2] -= fr * dz;
+  if (evflag) {
+    // recoverable elastic energy of the unloading branch
+    const double ebond = eflag ? 0.5 * tension * tension / h[W_KU] : 0.0;
+    ev_tally(e.i, e.j, atom->nlocal, force->newton_bond, ebond, -fr, -dx, -dy, -dz);
+  }
+}
+
+inline void BondWirenet::compute_beam(const Entry &e, int eflag)
+{
+  double **x = atom->x;
+  const double *qi = history->orientation(e.i), *qj = history->orientation(e.j);
+  BeamResult out;
+  beams[e.type]->evaluate(e.h, Eigen::Vector3d(x[e.i]), Eigen::Vector3d(x[e.j]),
+                          Eigen::Quaterniond(qi[0], qi[1], qi[2], qi[3]),
+                          Eigen::Quaterniond(qj[0], qj[1], qj[2], qj[3]), out);
+  double **f = atom->f, **t = atom->torque;
+  for (int d = 0; d < 3; d++) {
+    f[e.i][d] += out.force_i[d];
+    f[e.j][d] -= out.force_i[d];
+    t[e.i][d] += out.torque_i[d];
+    t[e.j][d] += out.torque_j[d];
+  }
+  if (evflag) {
+    // energy is exact; the virial holds the axial part only (the bond force is not central)
+    const double dx = x[e.i][0] - x[e.j][0], dy = x[e.i][1] - x[e.j][1], dz = x[e.i][2] - x[e.j][2];
+    const double r = sqrt(dx * dx + dy * dy + dz * dz);
+    ev_tally(e.i, e.j, atom->nlocal, force->newton_bond, eflag ? out.energy : 0.0, -out.axial / r, dx, dy, dz);
+  }
 }
 
 void BondWirenet::compute(int eflag, int vflag)
@@ -170,36 +235,56 @@ void BondWirenet::compute(int eflag, int vflag)
   if (history->list_version() != list_version) build_list();
 
   double **x = atom->x;
-  double **f = atom->f;
-  const int nlocal = atom->nlocal;
-  const int newton_bond = force->newton_bond;
-
   for (const Entry &e : list) {
-    double *h = e.h;
-    if (h[FixWirenetBonds::L0] < 0.0) continue;  // broken earlier, awaiting removal
+    const double l0 = e.h[FixWirenetBonds::L0];
+    if (l0 < 0.0) continue;  // broken earlier, awaiting removal
     const double dx = x[e.j][0] - x[e.i][0];
     const double dy = x[e.j][1] - x[e.i][1];
     const double dz = x[e.j][2] - x[e.i][2];
     const double r = sqrt(dx * dx + dy * dy + dz * dz);
-    if (h[FixWirenetBonds::L0] == 0.0) init_record(e, r);
+    if (l0 == 0.0) init_record(e, r);
+    if (wires[e.type]) compute_wire(e, dx, dy, dz, r, eflag);
+    else compute_beam(e, eflag);
+  }
+  if (update->setupflag) report_timestep();
+}
 
-    const WireLaw &law = *wires[e.type];
-    const double u = r - h[W_L0];
-    double tension;
-    if (!law.tension(u, h, tension)) {
-      const double mid[3] = { x[e.i][0] + 0.5 * dx, x[e.i][1] + 0.5 * dy, x[e.i][2] + 0.5 * dz };
-      history->break_bond(e.i, e.m, mid, u);
-      continue;
+// Stable time step of the bonds present: per bond, the two-node axial and rotational
+// frequencies doubled (a node shared by two bonds moving in antiphase), dt = 2 / omega_max.
+void BondWirenet::report_timestep()
+{
+  const double *rmass = atom->rmass, *radius = atom->radius;
+  double w2_trans = 0.0, w2_rot = 0.0;
+  for (const Entry &e : list) {
+    const double l0 = e.h[FixWirenetBonds::L0];
+    if (l0 <= 0.0) continue;
+    const double inv_m = 1.0 / rmass[e.i] + 1.0 / rmass[e.j];
+    if (wires[e.type]) {
+      w2_trans = fmax(w2_trans, 2.0 * e.h[W_KU] * inv_m);
+    } else {
+      const BeamLaw::Stiffness k = beams[e.type]->stiffness(l0);
+      const double kt = fmax(k.axial, 4.0 * k.shear_coupling / (l0 * l0));
+      const double kr = k.bending + k.shear_coupling + fabs(k.shear_coupling - k.bending) + 2.0 * k.twist;
+      const double inv_i = 1.0 / (0.4 * rmass[e.i] * radius[e.i] * radius[e.i]) +
+                           1.0 / (0.4 * rmass[e.j] * radius[e.j] * radius[e.j]);
+      w2_trans = fmax(w2_trans, 2.0 * kt * inv_m);
+      w2_rot = fmax(w2_rot, 2.0 * kr * inv_i);
     }
-    if (tension == 0.0) continue;
-    const double fr = tension / r;
-    f[e.i][0] += fr * dx; f[e.i][1] += fr * dy; f[e.i][2] += fr * dz;
-    f[e.j][0] -= fr * dx; f[e.j][1] -= fr * dy; f[e.j][2] -= fr * dz;
-    if (evflag) {
-      // recoverable elastic energy of the unloading branch
-      const double ebond = eflag ? 0.5 * tension * tension / h[W_KU] : 0.0;
-      ev_tally(e.i, e.j, nlocal, newton_bond, ebond, -fr, -dx, -dy, -dz);
-    }
+  }
+  double local[2] = { w2_trans, w2_rot }, global[2];
+  MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, world);
+  if (comm->me != 0 || (global[0] == 0.0 && global[1] == 0.0)) return;
+  const double dt_trans = global[0] > 0 ? 2.0 / sqrt(global[0]) : INFINITY;
+  const double dt_rot = global[1] > 0 ? 2.0 / sqrt(global[1]) : INFINITY;
+  const double dt = fmin(dt_trans, dt_rot);
+  char line[256];
+  snprintf(line, sizeof(line), "bond_style wirenet: stable time step estimate %g s (translation %g s, rotation %g s)\n",
+           dt, dt_trans, dt_rot);
+  if (screen) fputs(line, screen);
+  if (logfile) fputs(line, logfile);
+  if (update->dt > dt) {
+    snprintf(line, sizeof(line), "bond_style wirenet: timestep %g s exceeds the stable estimate %g s", update->dt, dt);
+    error->warning(FLERR, line);
   }
 }
 
@@ -212,8 +297,18 @@ bool BondWirenet::bond_state(int i, int m, int j, BondState &s) const
   const double d[3] = { x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2] };
   s.length = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
   s.length0 = h[FixWirenetBonds::L0];
-  s.tension = wires[type] ? wires[type]->tension_const(s.length - s.length0, h) : 0.0;
-  s.shear = s.moment = 0.0;
+  if (wires[type]) {
+    s.tension = wires[type]->tension_const(s.length - s.length0, h);
+    s.shear = s.moment = 0.0;
+  } else {
+    const double *qi = history->orientation(i), *qj = history->orientation(j);
+    BeamResult out;
+    beams[type]->evaluate(h, Eigen::Vector3d(x[i]), Eigen::Vector3d(x[j]), Eigen::Quaterniond(qi[0], qi[1], qi[2], qi[3]),
+                          Eigen::Quaterniond(qj[0], qj[1], qj[2], qj[3]), out);
+    s.tension = out.axial;
+    s.shear = out.shear;
+    s.moment = out.moment;
+  }
   return true;
 }
 

@@ -1,5 +1,6 @@
 /* WireNet: bond_style wirenet, remote bonds between the node spheres of a wire net.
-   Laws per bond type: `wire` (tension-only elasto-plastic). See doc/bond_wirenet.md. */
+   Laws per bond type: `wire` (tension-only elasto-plastic) and `beam` (corotational parallel
+   bond). See doc/bond_wirenet.md. */
 
 #ifdef BOND_CLASS
 
@@ -15,6 +16,7 @@ BondStyle(wirenet,BondWirenet)
 #include <vector>
 
 #include "bond.h"
+#include "wirenet_beam_law.h"
 #include "wirenet_bond_coeff.h"
 #include "wirenet_wire_law.h"
 
@@ -49,11 +51,16 @@ class BondWirenet : public Bond {
 
   std::vector<WireNet::BondTypeSpec> specs;                 // [type]
   std::vector<std::unique_ptr<WireNet::WireLaw>> wires;     // [type], null if not a wire
+  std::vector<std::unique_ptr<WireNet::BeamLaw>> beams;     // [type], null if not a beam
+  int any_beam;
 
   void allocate();
   void set_type(int type, const WireNet::BondTypeSpec &spec);
   void build_list();
   void init_record(const Entry &e, double length);
+  inline void compute_wire(const Entry &e, double dx, double dy, double dz, double r, int eflag);
+  inline void compute_beam(const Entry &e, int eflag);
+  void report_timestep();
   void ensure_history_fix();
   void report_types();
 };

@@ -95,6 +95,29 @@ void parse_wire(ArgCursor &c, BondTypeSpec &spec)
   WireLaw check(w);  // validates the table and parameters
 }
 
+void parse_beam(ArgCursor &c, BondTypeSpec &spec)
+{
+  BeamLawParams &b = spec.beam;
+  b.diameter = c.keyed("diameter", "beam");
+  b.young = c.keyed("E", "beam");
+  b.nu = c.keyed("nu", "beam");
+  while (!c.done()) {
+    const std::string key = c.word("keyword");
+    if (key == "family") spec.family = c.word("family name");
+    else if (key == "bending") b.bending = c.number("bending fraction");
+    else if (key == "twist") b.twist = c.number("twist fraction");
+    else if (key == "shear") {
+      const std::string m = c.word("shear model (eb or pb)");
+      if (m == "eb") b.shear = ShearModel::EULER_BERNOULLI;
+      else if (m == "pb") b.shear = ShearModel::PARALLEL_BOND;
+      else throw std::invalid_argument("beam shear must be eb or pb (got '" + m + "')");
+    } else {
+      throw std::invalid_argument("unknown beam keyword '" + key + "'");
+    }
+  }
+  BeamLaw check(b);  // validates the parameters
+}
+
 }  // namespace
 
 BondTypeSpec parse_bond_coeff(const std::vector<std::string> &args)
@@ -106,8 +129,12 @@ BondTypeSpec parse_bond_coeff(const std::vector<std::string> &args)
     spec.kind = LawKind::WIRE;
     spec.family = "wire";
     parse_wire(c, spec);
+  } else if (law == "beam") {
+    spec.kind = LawKind::BEAM;
+    spec.family = "beam";
+    parse_beam(c, spec);
   } else {
-    throw std::invalid_argument("unknown law '" + law + "' (expected wire)");
+    throw std::invalid_argument("unknown law '" + law + "' (expected wire or beam)");
   }
   return spec;
 }
@@ -123,6 +150,9 @@ std::vector<double> BondTypeSpec::serialize() const
     v.insert(v.end(), w.stress.begin(), w.stress.end());
     v.insert(v.end(), { (double)w.derived, w.lambda_eps, w.lambda_k, w.nu,
                         (double)w.slack, w.lambda_u, w.lambda_f, (double)w.seed });
+  } else if (kind == LawKind::BEAM) {
+    const BeamLawParams &b = beam;
+    v.insert(v.end(), { b.diameter, b.young, b.nu, b.bending, b.twist, (double)b.shear });
   }
   return v;
 }
@@ -144,6 +174,10 @@ BondTypeSpec BondTypeSpec::deserialize(const std::vector<double> &v, const std::
     w.lambda_eps = v.at(k++); w.lambda_k = v.at(k++); w.nu = v.at(k++);
     w.slack = v.at(k++) != 0.0;
     w.lambda_u = v.at(k++); w.lambda_f = v.at(k++); w.seed = (long)v.at(k++);
+  } else if (s.kind == LawKind::BEAM) {
+    BeamLawParams &b = s.beam;
+    b.diameter = v.at(k++); b.young = v.at(k++); b.nu = v.at(k++);
+    b.bending = v.at(k++); b.twist = v.at(k++); b.shear = (ShearModel)(int)v.at(k++);
   }
   return s;
 }

@@ -7,16 +7,18 @@
 #include <string>
 #include <vector>
 
+#include "wirenet_beam_law.h"
 #include "wirenet_wire_law.h"
 
 namespace WireNet {
 
-enum class LawKind { NONE = 0, WIRE = 1 };
+enum class LawKind { NONE = 0, WIRE = 1, BEAM = 2 };
 
 struct BondTypeSpec {
   LawKind kind = LawKind::NONE;
   std::string family;
   WireLawParams wire;
+  BeamLawParams beam;
 
   // flat form for restart files
   std::vector<double> serialize() const;

@@ -158,9 +158,9 @@ void FixWirenetBonds::write_restart(FILE *fp)
 {
   if (comm->me != 0) return;
   double list[1] = { (double)nbroken_total };
-  int n = 1;
-  fwrite(&n, sizeof(int), 1, fp);
-  fwrite(list, sizeof(double), n, fp);
+  int bytes = sizeof(list);  // Modify::read_restart reads a byte count, then the bytes
+  fwrite(&bytes, sizeof(int), 1, fp);
+  fwrite(list, sizeof(list), 1, fp);
 }
 
 void FixWirenetBonds::restart(char *buf)

@@ -1,0 +1,91 @@
+"""Beam law in dynamics: undamped free vibration of the cantilever (energy conservation, first
+natural frequency), MPI rank-count independence and restart continuity."""
+
+import math
+import subprocess
+
+import numpy as np
+
+import lmp
+
+L, D, E, NU, RHO = 2.0, 0.01, 1e10, 0.288, 7850.0
+EI = E * math.pi * D**4 / 64
+N = 21
+DT = 3e-5
+
+
+def make_beam(tmp_path, n=N):
+    prefix = tmp_path / "beam"
+    subprocess.run([str(lmp.GEN), "beam", "--elements", str(n), "--node-diameter", "0.05",
+                    "--out", str(prefix)], check=True, capture_output=True)
+    return f"{prefix}.data"
+
+
+def setup_lines(data, processors=""):
+    return [processors, lmp.PREAMBLE, f"read_data {data}", "bond_style wirenet",
+            f"bond_coeff 1 beam diameter {D} E {E} nu {NU} shear eb",
+            "group root type 2", "group tip type 3", "group free subtract all root",
+            "fix integrate free nve/sphere", f"timestep {DT!r}"]
+
+
+def test_free_vibration_conserves_energy_and_has_beam_frequency(tmp_path):
+    data = make_beam(tmp_path)
+    tipid = N + 1
+    m_node = RHO * math.pi * D**2 / 4 * L / N
+    omega1 = 1.875104**2 * math.sqrt(EI / (RHO * math.pi * D**2 / 4 * L**4))
+    deck = setup_lines(data) + [
+        # static deflection under a tip load, then release: mostly the first mode
+        f"fix damp free viscous {2 * omega1 * m_node!r}", "fix load tip addforce 0 0 -0.01",
+        "run 300000", "unfix damp", "unfix load",
+        "compute ket all ke", "compute erot all erotate/sphere", "compute pe all pe bond",
+        "variable etot equal c_ket+c_erot+c_pe", f"variable z equal z[{tipid}]",
+        "thermo_style custom step v_z v_etot", "thermo_modify format float %.17g norm no",
+        "thermo 100", "run 400000"]
+    out = lmp.run_deck("\n".join(deck) + "\n", tmp_path)
+    rows = [r for r in lmp.thermo_rows(out) if "z" in r]
+    t = (np.array([r["Step"] for r in rows]) - 300000) * DT
+    z = np.array([r["z"] for r in rows])
+    e = np.array([r["etot"] for r in rows])
+    assert abs(e - e[0]).max() / e[0] < 1e-4  # over 4e5 steps, undamped
+    # first natural frequency from the zero crossings of the tip (equilibrium at z = 0)
+    k = np.nonzero(np.sign(z[:-1]) != np.sign(z[1:]))[0]
+    crossings = t[k] - z[k] * (t[k + 1] - t[k]) / (z[k + 1] - z[k])
+    # over several periods the few percent of higher modes in the released shape average out
+    assert len(crossings) >= 8
+    half_period = (crossings[-1] - crossings[0]) / (len(crossings) - 1)
+    assert abs(math.pi / half_period - omega1) / omega1 < 0.01
+
+
+def final_positions(tmp_path, deck):
+    lmp.run_deck("\n".join(deck) + "\nwrite_dump all custom final.dump id x y z modify sort id\n",
+                 tmp_path[0], np=tmp_path[1])
+    rows = np.loadtxt(tmp_path[0] / "final.dump", skiprows=9)
+    return rows[np.argsort(rows[:, 0])][:, 1:]
+
+
+def loaded_run(data, steps, processors=""):
+    return setup_lines(data, processors) + [
+        "fix load tip addforce 0 0 -0.05", "fix damp free viscous 0.05", f"run {steps}"]
+
+
+def test_one_and_two_ranks_agree(tmp_path):
+    data = make_beam(tmp_path)
+    # split the chain at x = 1 m; the load swings it through a large, dynamic deflection
+    a = final_positions((tmp_path / "np1", 1), loaded_run(data, 20000, "processors * 1 1"))
+    b = final_positions((tmp_path / "np2", 2), loaded_run(data, 20000, "processors * 1 1"))
+    assert np.abs(a[:, 2]).max() > 1e-3
+    assert np.abs(a - b).max() <= 1e-10 * np.abs(a).max()
+
+
+def test_restart_continues_exactly(tmp_path):
+    data = make_beam(tmp_path)
+    straight = final_positions((tmp_path / "straight", 1), loaded_run(data, 20000))
+    first = loaded_run(data, 10000) + ["write_restart half.restart"]
+    lmp.run_deck("\n".join(first) + "\n", tmp_path / "split")
+    second = ["units si", "atom_modify map array sort 0 0", "read_restart half.restart",
+              "group root type 2", "group tip type 3", "group free subtract all root",
+              "fix integrate free nve/sphere", f"timestep {DT!r}",
+              "fix load tip addforce 0 0 -0.05", "fix damp free viscous 0.05", "run 10000"]
+    resumed = final_positions((tmp_path / "split", 1), second)
+    assert np.abs(straight[:, 2]).max() > 1e-3
+    assert np.abs(straight - resumed).max() <= 1e-12 * np.abs(straight).max()

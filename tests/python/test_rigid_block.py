@@ -8,7 +8,7 @@
 - the wall velocity: a head-on collision with a free sphere and a viscous contact has the
   restitution coefficient of the spring-dashpot with the reduced mass, and conserves momentum;
 - a tilted, spinning block dropped on a fixed plane of spheres (linear elastic contacts, no
-  damping, no friction) bounces with its energy conserved within 1 %;
+  damping, no friction) bounces with its energy conserved (3e-6 of the kinetic energy; 1 % asked);
 - 1 and 2 MPI ranks agree; a write_restart / read_restart continuation matches the straight run.
 """
 
@@ -216,8 +216,8 @@ def test_triaxial_body_follows_euler_equations(tmp_path, stl):
         err_w = max(err_w, np.abs(wb - ref[k]).max() / np.linalg.norm(wb0))
         err_e = max(err_e, abs(r["ke_rot"] / e0 - 1))
         assert np.allclose(vec(r, "lx", "ly", "lz"), L0, rtol=1e-12, atol=1e-12)
-    assert err_w < 2e-3, err_w          # second order, (w dt)^2 ~ 1e-5 times the tumbling growth
-    assert err_e < 1e-4, err_e
+    assert err_w < 1e-6, err_w          # measured 4.5e-8 (the correction terms are small)
+    assert err_e < 1e-7, err_e          # measured 4e-9
 
 
 def test_head_on_collision_restitution(tmp_path, stl):
@@ -335,7 +335,7 @@ def test_drop_on_fixed_spheres_conserves_energy(tmp_path, stl):
     assert last["f"] == 0.0 and last["vz"] > 0.3     # and bounced off
     assert abs(last["wx"] - 0.5) + abs(last["wy"] + 0.3) > 0.1  # the corner impact changed the spin
     drift = abs(energy[-1] - energy[0]) / first["ke"]
-    assert drift < 0.01, drift
+    assert drift < 1e-4, drift          # brief: 1 %; measured 3e-6
 
 
 def test_one_and_two_ranks_agree(tmp_path, stl):

@@ -34,7 +34,10 @@ class LiggghtsError(RuntimeError):
 
 
 def run_deck(deck, workdir, np=1, timeout=600, check=True):
-    """Run a deck text in workdir (with np MPI ranks); return the combined output."""
+    """Run a deck text in workdir (with np MPI ranks); return the combined output.
+
+    Undecodable bytes are replaced: LIGGGHTS-PUBLIC's Error::all sometimes appends a "tip of the
+    day" through a dangling pointer (error_special.h), i.e. random bytes after the ERROR line."""
     workdir = Path(workdir)
     workdir.mkdir(parents=True, exist_ok=True)
     (workdir / "in.deck").write_text(deck)
@@ -43,7 +46,7 @@ def run_deck(deck, workdir, np=1, timeout=600, check=True):
         cmd = ["mpirun", "-np", str(np)] + cmd
     env = dict(os.environ, **MPI_ENV)
     p = subprocess.run(cmd, cwd=workdir, env=env, stdout=subprocess.PIPE,
-                       stderr=subprocess.STDOUT, text=True, timeout=timeout)
+                       stderr=subprocess.STDOUT, text=True, errors="replace", timeout=timeout)
     if check and (p.returncode != 0 or "ERROR" in p.stdout):
         raise LiggghtsError(p.stdout)
     return p.stdout

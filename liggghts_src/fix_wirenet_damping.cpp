@@ -1,0 +1,161 @@
+/* WireNet: fix wirenet/damping. See doc/fix_wirenet_damping.md.
+
+   Each component of the force on a node is reduced by ALPHA times its magnitude against the
+   velocity component (PFC's local damping); the torque likewise against the angular velocity.
+   The work of the damping is accounted with the velocity of the same instant, which velocity
+   Verlet knows only at the end of the step. */
+
+#include "fix_wirenet_damping.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+#include "atom.h"
+#include "comm.h"
+#include "error.h"
+#include "modify.h"
+#include "update.h"
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+
+static inline double sign_of(double v) { return (v > 0.0) - (v < 0.0); }
+
+FixWirenetDamping::FixWirenetDamping(LAMMPS *lmp, int narg, char **arg) :
+  Fix(lmp, narg, arg), alpha(0.0), rotational(false), ndamped(-1)
+{
+  if (narg != 4) error->all(FLERR, "fix wirenet/damping: expected 'fix ID GROUP wirenet/damping ALPHA'");
+  char *end = NULL;
+  errno = 0;
+  alpha = strtod(arg[3], &end);
+  if (errno || end == arg[3] || *end != '\0') {
+    std::string msg = std::string("fix wirenet/damping: ALPHA must be a number (got '") + arg[3] + "')";
+    error->all(FLERR, msg.c_str());
+  }
+  if (!(alpha >= 0.0 && alpha < 1.0)) {
+    std::string msg = std::string("fix wirenet/damping: ALPHA must be in [0, 1) (got ") + arg[3] + ")";
+    error->all(FLERR, msg.c_str());
+  }
+
+  scalar_flag = 1;
+  vector_flag = 1;
+  size_vector = 2;
+  global_freq = 1;
+  extscalar = 1;
+  extvector = 1;
+  restart_global = 1;
+  work_mine[0] = work_mine[1] = 0.0;
+  work_all[0] = work_all[1] = 0.0;
+}
+
+int FixWirenetDamping::setmask()
+{
+  return POST_FORCE | END_OF_STEP;
+}
+
+void FixWirenetDamping::init()
+{
+  rotational = atom->torque_flag && atom->omega_flag;
+  if (strstr(update->integrate_style, "respa"))
+    error->all(FLERR, "fix wirenet/damping does not support run_style respa");
+
+  // Forces added after this fix are not damped; say so for the usual suspects.
+  int me = modify->find_fix(id);
+  for (int k = me + 1; k < modify->nfix; k++) {
+    Fix *other = modify->fix[k];
+    if (!(other->setmask() & POST_FORCE)) continue;
+    if (strcmp(other->style, "setforce") == 0 || strncmp(other->style, "wirenet/", 8) == 0) continue;
+    if (comm->me == 0) {
+      std::string msg = std::string("fix wirenet/damping: fix ") + other->id + " (" + other->style +
+                        ") comes later and its forces are not damped; define wirenet/damping after it";
+      error->warning(FLERR, msg.c_str());
+    }
+  }
+}
+
+// The setup force is damped too (it drives the first half step), but its work is not accounted:
+// the budget runs from the end of one step to the end of the next.
+void FixWirenetDamping::setup(int vflag)
+{
+  post_force(vflag);
+  ndamped = -1;
+}
+
+void FixWirenetDamping::post_force(int)
+{
+  const int nlocal = atom->nlocal;
+  const int *mask = atom->mask;
+  double **f = atom->f, **v = atom->v;
+  fdamp.assign(6 * (size_t)nlocal, 0.0);
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    double *fd = &fdamp[6 * (size_t)i];
+    for (int k = 0; k < 3; k++) {
+      fd[k] = -alpha * fabs(f[i][k]) * sign_of(v[i][k]);
+      f[i][k] += fd[k];
+    }
+    if (!rotational) continue;
+    double *t = atom->torque[i], *w = atom->omega[i];
+    for (int k = 0; k < 3; k++) {
+      fd[3 + k] = -alpha * fabs(t[k]) * sign_of(w[k]);
+      t[k] += fd[3 + k];
+    }
+  }
+  ndamped = nlocal;
+}
+
+// F(t+dt) . v(t+dt) dt with the full-step velocity: summed over all forces this equals the change of
+// the half-step kinetic energy exactly, so energy budgets built from such terms close.
+void FixWirenetDamping::end_of_step()
+{
+  if (ndamped < 0) return;
+  if (ndamped != atom->nlocal) error->one(FLERR, "fix wirenet/damping: atoms changed between force and end of step");
+  const double dt = update->dt;
+  double **v = atom->v;
+  for (int i = 0; i < ndamped; i++) {
+    const double *fd = &fdamp[6 * (size_t)i];
+    work_mine[0] += dt * (fd[0] * v[i][0] + fd[1] * v[i][1] + fd[2] * v[i][2]);
+    if (rotational) {
+      const double *w = atom->omega[i];
+      work_mine[1] += dt * (fd[3] * w[0] + fd[4] * w[1] + fd[5] * w[2]);
+    }
+  }
+  ndamped = -1;
+}
+
+void FixWirenetDamping::reduce_work()
+{
+  MPI_Allreduce(work_mine, work_all, 2, MPI_DOUBLE, MPI_SUM, world);
+}
+
+double FixWirenetDamping::compute_scalar()
+{
+  reduce_work();
+  return work_all[0] + work_all[1];
+}
+
+double FixWirenetDamping::compute_vector(int n)
+{
+  reduce_work();
+  return work_all[n];
+}
+
+// The totals go to rank 0's share on restart; the other ranks start from zero.
+void FixWirenetDamping::write_restart(FILE *fp)
+{
+  reduce_work();
+  if (comm->me != 0) return;
+  int n = 2 * sizeof(double);
+  fwrite(&n, sizeof(int), 1, fp);
+  fwrite(work_all, sizeof(double), 2, fp);
+}
+
+void FixWirenetDamping::restart(char *buf)
+{
+  const double *list = (const double *)buf;
+  work_mine[0] = comm->me == 0 ? list[0] : 0.0;
+  work_mine[1] = comm->me == 0 ? list[1] : 0.0;
+}

@@ -1,0 +1,46 @@
+/* WireNet: fix wirenet/damping, Cundall's local (non-viscous) damping of force and torque.
+   See doc/fix_wirenet_damping.md. */
+
+#ifdef FIX_CLASS
+
+FixStyle(wirenet/damping,FixWirenetDamping)
+
+#else
+
+#ifndef LMP_FIX_WIRENET_DAMPING_H
+#define LMP_FIX_WIRENET_DAMPING_H
+
+#include "fix.h"
+#include <vector>
+
+namespace LAMMPS_NS {
+
+class FixWirenetDamping : public Fix {
+ public:
+  FixWirenetDamping(class LAMMPS *, int, char **);
+  int setmask();
+  void init();
+  void setup(int);
+  void post_force(int);
+  void end_of_step();
+  double compute_scalar();
+  double compute_vector(int);
+  void write_restart(FILE *);
+  void restart(char *);
+
+ private:
+  double alpha;
+  bool rotational;            // the atom style has torque and omega
+  // Damping force and torque of this step per local atom (6 doubles each), kept from post_force
+  // to end_of_step, when the velocities of the same instant are known.
+  std::vector<double> fdamp;
+  int ndamped;                // local atoms in fdamp; -1 = nothing to account this step
+  double work_mine[2];        // work of damping forces / torques done on this rank's atoms
+  double work_all[2];         // reduced over ranks (by reduce_work)
+  void reduce_work();
+};
+
+}
+
+#endif
+#endif

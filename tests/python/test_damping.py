@@ -1,0 +1,192 @@
+"""fix wirenet/damping: Cundall's local damping against its analytical consequences.
+
+Oscillator: node 2 (mass m) on a harmonic bond (stiffness k) to node 1, which is not integrated.
+With local damping the net force is (1 - ALPHA) k x while the node moves towards equilibrium and
+(1 + ALPHA) k x while it moves away, so each quarter cycle conserves its own energy
+m v^2/2 + (1 -+ ALPHA) k x^2/2. Matching them at x = 0 and at the turning points gives the
+amplitude ratio sqrt((1 - ALPHA)/(1 + ALPHA)) per half cycle, i.e. ((1 - ALPHA)/(1 + ALPHA))^2 of
+the energy kept per cycle (1/9 for ALPHA = 0.5).
+
+Discretisation: in each quarter cycle velocity Verlet conserves a modified energy that differs
+from the exact one by O((w dt)^2); the damping force is continuous where x crosses zero and
+switches sign at the turning points, where the velocity is O(w^2 A dt) during the one step in
+which the switch can be late, so the energy error there is O(ALPHA (w dt)^2) as well. Hence the
+ratios are second-order accurate; the test checks the error at w dt = 2 pi/2000 and that halving
+dt divides it by about four.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+import lmp
+
+L0 = 0.5          # bond rest length, m
+D = 0.1           # node diameter, m
+RHO = 1000.0      # density, kg/m3
+MASS = RHO * math.pi * D ** 3 / 6.0
+OMEGA = 2.0 * math.pi              # undamped angular frequency, rad/s (period 1 s)
+K = MASS * OMEGA ** 2              # spring stiffness, N/m
+A0 = 0.01                          # initial stretch, m
+
+
+def oscillator_deck(alpha, dt, steps, direction=(1.0, 0.0, 0.0)):
+    """Node 2 stretched by A0 along direction; thermo columns: step, displacement, velocity, work."""
+    n = np.asarray(direction, float) / np.linalg.norm(direction)
+    ux, uy, uz = n
+    # LIGGGHTS' bond_style harmonic: E = K (r - r0)^2, so its K is half the spring stiffness.
+    return lmp.PREAMBLE + f"""communicate single cutoff {2 * L0!r}
+read_data osc.data
+bond_style harmonic
+bond_coeff 1 {K / 2.0!r} {L0!r}
+group mover id 2
+fix integ mover nve/sphere
+fix damp mover wirenet/damping {alpha!r}
+variable u equal ((x[2]-x[1])*{ux!r}+(y[2]-y[1])*{uy!r}+(z[2]-z[1])*{uz!r})-{L0!r}
+variable w equal vx[2]*{ux!r}+vy[2]*{uy!r}+vz[2]*{uz!r}
+variable r equal sqrt((x[2]-x[1])^2+(y[2]-y[1])^2+(z[2]-z[1])^2)
+thermo_style custom step v_u v_w v_r f_damp
+thermo_modify format float %.17g
+thermo 1
+timestep {dt!r}
+run {steps}
+"""
+
+
+def write_oscillator(path, direction=(1.0, 0.0, 0.0)):
+    n = np.asarray(direction, float) / np.linalg.norm(direction)
+    p2 = (L0 + A0) * n
+    atoms = [(1, 1, 0.0, 0.0, 0.0, D, RHO, 1), (2, 1, *map(float, p2), D, RHO, 1)]
+    lmp.write_data(path, atoms, [(1, 1, 1, 2)])
+
+
+def run_oscillator(tmp_path, alpha, dt, cycles, np_=1, direction=(1.0, 0.0, 0.0)):
+    tmp_path.mkdir(parents=True, exist_ok=True)
+    write_oscillator(tmp_path / "osc.data", direction)
+    steps = int(round(cycles / dt))
+    out = lmp.run_deck(oscillator_deck(alpha, dt, steps, direction), tmp_path, np=np_)
+    rows = lmp.thermo_rows(out)
+    return {key: np.array([r[key] for r in rows]) for key in rows[0]}
+
+
+def turning_amplitudes(u):
+    """|u| at each turning point, refined by a parabola through the three samples around it."""
+    amps = [abs(u[0])]
+    for i in range(1, len(u) - 1):
+        if abs(u[i]) >= abs(u[i - 1]) and abs(u[i]) > abs(u[i + 1]) and i > 2:
+            a, b, c = abs(u[i - 1]), abs(u[i]), abs(u[i + 1])
+            denom = a - 2 * b + c
+            amps.append(b - (a - c) ** 2 / (8 * denom) if denom else b)
+    return np.array(amps)
+
+
+def ratio_errors(tmp_path, alpha, dt, cycles=3):
+    u = run_oscillator(tmp_path, alpha, dt, cycles)["u"]
+    amps = turning_amplitudes(u)
+    expected = math.sqrt((1 - alpha) / (1 + alpha))
+    ratios = amps[1:] / amps[:-1]
+    return ratios, np.abs(ratios / expected - 1.0)
+
+
+@pytest.mark.parametrize("alpha", [0.5, 0.2])
+def test_amplitude_ratio_per_half_cycle(tmp_path, alpha):
+    dt = 1.0 / 2000.0
+    ratios, err = ratio_errors(tmp_path / "a", alpha, dt)
+    assert len(ratios) >= 5, ratios
+    # (w dt)^2 = 9.9e-6; the bound leaves a factor 10 for the constants of the analysis above
+    assert err.max() < 1e-4, (ratios, err)
+    # energy kept per full cycle
+    kept = (ratios[0::2][:2] * ratios[1::2][:2]) ** 2
+    assert np.allclose(kept, ((1 - alpha) / (1 + alpha)) ** 2, rtol=2e-4), kept
+    # second order: halving the step divides the error by about four
+    _, err_half = ratio_errors(tmp_path / "b", alpha, dt / 2)
+    assert err.max() / err_half.max() > 3.0, (err.max(), err_half.max())
+
+
+def test_undamped_oscillator_keeps_amplitude(tmp_path):
+    ratios, _ = ratio_errors(tmp_path, 0.0, 1.0 / 2000.0, cycles=2)
+    assert np.allclose(ratios, 1.0, atol=1e-5), ratios
+
+
+def test_work_closes_the_energy_budget(tmp_path):
+    """The reported work equals the change of the oscillator's energy (to the Verlet error)."""
+    alpha, dt = 0.5, 1.0 / 4000.0
+    d = run_oscillator(tmp_path, alpha, dt, cycles=2.25)
+    energy = 0.5 * MASS * d["w"] ** 2 + 0.5 * K * (d["r"] - L0) ** 2
+    lost = energy[-1] - energy[0]
+    work = d["damp"][-1]
+    assert d["damp"][0] == 0.0
+    # The damping opposes v(t+dt/2); only in a step where the velocity changes sign between
+    # t+dt/2 and t+dt can F_damp . v(t+dt) be positive, and then it is tiny.
+    steps = np.diff(d["damp"])
+    assert np.all(steps[steps > 0] < 1e-6 * abs(work)), steps.max()
+    assert (steps > 0).sum() <= 5
+    assert lost < -0.9 * energy[0]
+    assert work == pytest.approx(lost, rel=1e-6), (work, lost)
+
+
+def free_body_deck(alpha, steps, gravity, vz):
+    grav = "fix grav all gravity 9.81 vector 0 0 -1\n" if gravity else ""
+    return lmp.PREAMBLE + f"""read_data free.data
+set atom 1 vx 1.25 vy -0.5 vz {vz!r} omegax 3 omegay -2 omegaz 0.5
+fix integ all nve/sphere
+{grav}fix damp all wirenet/damping {alpha!r}
+variable vx equal vx[1]
+variable vy equal vy[1]
+variable vz equal vz[1]
+variable wx equal omegax[1]
+variable wy equal omegay[1]
+variable wz equal omegaz[1]
+thermo_style custom step v_vx v_vy v_vz v_wx v_wy v_wz f_damp
+thermo_modify format float %.17g
+thermo 10
+timestep 1e-3
+run {steps}
+"""
+
+
+def write_free_body(path):
+    lmp.write_data(path, [(1, 1, 0.0, 0.0, 0.0, D, RHO, 1)], [], box=((-10, 10), (-10, 10), (-10, 10)))
+
+
+def test_free_body_keeps_its_velocity_exactly(tmp_path):
+    write_free_body(tmp_path / "free.data")
+    rows = lmp.thermo_rows(lmp.run_deck(free_body_deck(0.5, 1000, False, 0.75), tmp_path))
+    last = rows[-1]
+    assert (last["vx"], last["vy"], last["vz"]) == (1.25, -0.5, 0.75)
+    assert (last["wx"], last["wy"], last["wz"]) == (3.0, -2.0, 0.5)
+    assert last["damp"] == 0.0
+
+
+def test_constant_force_is_damped_by_the_law(tmp_path):
+    """Falling from rest in z under gravity: the setup force (v_z = 0, sign 0) is undamped, every
+    later one is (1 - ALPHA) m g, so v_z after N steps = -g dt/2 - (1 - ALPHA) g dt (N - 1/2).
+    The force-free horizontal drift and the spin are untouched."""
+    alpha, n, dt, g = 0.5, 1000, 1e-3, 9.81
+    write_free_body(tmp_path / "free.data")
+    rows = lmp.thermo_rows(lmp.run_deck(free_body_deck(alpha, n, True, 0.0), tmp_path))
+    last = rows[-1]
+    expected = -g * dt / 2 - (1 - alpha) * g * dt * (n - 0.5)
+    assert last["vz"] == pytest.approx(expected, rel=1e-12)
+    assert (last["vx"], last["vy"]) == (1.25, -0.5)
+    assert (last["wx"], last["wy"], last["wz"]) == (3.0, -2.0, 0.5)
+
+
+def test_one_and_two_ranks_agree(tmp_path):
+    direction = (1.0, 0.7, -0.4)
+    one = run_oscillator(tmp_path / "np1", 0.5, 1.0 / 1000.0, 1.5, np_=1, direction=direction)
+    two = run_oscillator(tmp_path / "np2", 0.5, 1.0 / 1000.0, 1.5, np_=2, direction=direction)
+    for key in ("u", "w", "damp"):
+        assert np.allclose(one[key], two[key], rtol=1e-12, atol=1e-15), key
+
+
+@pytest.mark.parametrize("alpha,message", [("1", "ALPHA must be in [0, 1) (got 1)"),
+                                           ("-0.1", "ALPHA must be in [0, 1) (got -0.1)"),
+                                           ("half", "ALPHA must be a number (got 'half')")])
+def test_bad_alpha_is_named(tmp_path, alpha, message):
+    lmp.write_data(tmp_path / "free.data", [(1, 1, 0.0, 0.0, 0.0, D, RHO, 1)], [])
+    deck = lmp.PREAMBLE + f"read_data free.data\nfix damp all wirenet/damping {alpha}\n"
+    out = lmp.run_deck(deck, tmp_path, check=False)
+    errors = [l for l in out.splitlines() if "ERROR" in l]
+    assert errors and message in errors[0], out[-1500:]

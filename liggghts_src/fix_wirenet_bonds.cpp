@@ -42,6 +42,10 @@ FixWirenetBonds::FixWirenetBonds(LAMMPS *lmp, int narg, char **arg) :
   extscalar = 0;
   global_freq = 1;
   local_flag = 1;
+  // The rupture rows are current at every step. Fix() leaves both frequencies uninitialised;
+  // dump local checks local_freq and compute reduce checks peratom_freq, even for local data.
+  local_freq = 1;
+  peratom_freq = 1;
   size_local_cols = RUPTURE_COLS;
   size_local_rows = 0;
   array_local = NULL;

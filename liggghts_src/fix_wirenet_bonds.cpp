@@ -162,9 +162,10 @@ void FixWirenetBonds::write_restart(FILE *fp)
 {
   if (comm->me != 0) return;
   double list[1] = { (double)nbroken_total };
-  int n = 1;
-  fwrite(&n, sizeof(int), 1, fp);
-  fwrite(list, sizeof(double), n, fp);
+  // Modify::read_restart reads this many BYTES of state (not values).
+  int size = (int)sizeof(list);
+  fwrite(&size, sizeof(int), 1, fp);
+  fwrite(list, sizeof(double), 1, fp);
 }
 
 void FixWirenetBonds::restart(char *buf)

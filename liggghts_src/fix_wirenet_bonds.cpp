@@ -208,10 +208,13 @@ void FixWirenetBonds::refresh_local_array()
 }
 
 // Remove flagged bonds from the owning atoms, keeping bond slots and history records aligned.
-void FixWirenetBonds::remove_broken_bonds()
+// scan_all: look at every record, not only when this rank flagged bonds itself. Needed at setup:
+// a restart file written by the `restart` command in the middle of a run holds bonds flagged
+// at that step, which the new process has never counted as pending.
+void FixWirenetBonds::remove_broken_bonds(bool scan_all)
 {
   int removed = 0;
-  if (nbroken_pending) {
+  if (nbroken_pending || scan_all) {
     int *num_bond = atom->num_bond;
     int **bond_type = atom->bond_type;
     int **bond_atom = atom->bond_atom;
@@ -238,9 +241,9 @@ void FixWirenetBonds::remove_broken_bonds()
   }
 }
 
-void FixWirenetBonds::setup_pre_exchange() { remove_broken_bonds(); }
-void FixWirenetBonds::pre_exchange() { remove_broken_bonds(); }
-void FixWirenetBonds::post_run() { remove_broken_bonds(); }
+void FixWirenetBonds::setup_pre_exchange() { remove_broken_bonds(true); }
+void FixWirenetBonds::pre_exchange() { remove_broken_bonds(false); }
+void FixWirenetBonds::post_run() { remove_broken_bonds(false); }
 
 double FixWirenetBonds::compute_scalar()
 {

@@ -132,3 +132,51 @@ def test_restart_on_two_ranks(tmp_path):
     compare_bonds(ref, got, steps)
     compare_atoms(lmp.dump_atom_frames(tmp_path / "atoms.dump"), lmp.dump_atom_frames(wd2 / "atoms.dump"), steps)
 
+
+def test_restart_file_written_mid_run_keeps_flagged_ruptures(tmp_path):
+    """The `restart` command writes files at the end of a step. A bond that broke in that very
+    step is only flagged (it leaves the bond list at the next re-neighbouring; LIGGGHTS
+    re-neighbours at the start of a restart step, not after the forces). Read back, that bond must
+    still count as broken and must not come back."""
+    atoms = [(1, 1, 0.0, 0.0, 0.0, 0.0108, 7850.0, 1), (2, 1, 0.04, 0.0, 0.0, 0.0108, 7850.0, 1),
+             (3, 1, 0.08, 0.0, 0.0, 0.0108, 7850.0, 1)]
+    lmp.write_data(tmp_path / "chain.data", atoms, [(1, 1, 1, 2), (2, 1, 2, 3)])
+    # node 3 moves at 20 m/s: bond 2-3 (l0 = 40 mm) passes 0.35 x 40 mm near step 700; a restart
+    # file is written at every step around it
+    deck = lmp.PREAMBLE + f"""read_data chain.data
+bond_style wirenet
+bond_coeff 1 wire diameter 0.0027 curve {netdeck.SW_CURVE}
+group end id 3
+fix pull end move linear 20 0 0
+compute bl all wirenet/local
+compute nbonds all reduce sum c_bl[3]
+variable nb equal f_wirenet_bonds
+variable intact equal c_nbonds
+thermo_style custom step v_nb v_intact
+thermo 1
+timestep 1e-6
+run 690
+restart 1 chain.restart.*
+run 20
+"""
+    out = lmp.run_deck(deck, tmp_path, name="in.first")
+    rows = {int(r["Step"]): r for r in lmp.thermo_rows(out)}
+    step = min(s for s, r in rows.items() if r["nb"] > 0)
+    assert 690 < step <= 710 and rows[step]["nb"] == 1 and rows[step]["intact"] == 1
+    assert (tmp_path / f"chain.restart.{step}").exists()
+    resume = f"""read_restart chain.restart.{step}
+atom_modify sort 0 0
+timestep 1e-6
+fix pull end move linear 20 0 0
+compute bl all wirenet/local
+compute nbonds all reduce sum c_bl[3]
+variable nb equal f_wirenet_bonds
+variable intact equal c_nbonds
+thermo_style custom step v_nb v_intact
+thermo 100
+run 300
+"""
+    out2 = lmp.run_deck(resume, tmp_path, name="in.second")
+    rows2 = lmp.thermo_rows(out2)
+    assert [r["nb"] for r in rows2] == [1.0] * len(rows2)
+    assert [r["intact"] for r in rows2] == [1.0] * len(rows2)

@@ -265,10 +265,10 @@ void FixWirenetBonds::check_partners_present()
       if (atom->map(bond_atom[i][m]) < 0) {
         char msg[512];
         snprintf(msg, sizeof(msg),
-                 "bond_style wirenet: bond %d-%d is longer than the ghost cutoff %g at step " BIGINT_FORMAT
-                 " (raise it with comm_modify cutoff, e.g. to twice the longest bond)",
-                 atom->tag[i], bond_atom[i][m], comm->cutghostuser > 0 ? comm->cutghostuser : ghost_extent,
-                 update->ntimestep);
+                 "bond_style wirenet: bond %d-%d reaches beyond the ghost atoms (bond length allowed for: %g m) "
+                 "at step " BIGINT_FORMAT " (raise it with 'communicate single cutoff C'; node spheres get "
+                 "ghosts within C/2 + skin/2 + radius, so give C = twice the longest bond)",
+                 atom->tag[i], bond_atom[i][m], ghost_extent, update->ntimestep);
         error->one(FLERR, msg);
       }
 }
@@ -276,7 +276,15 @@ void FixWirenetBonds::check_partners_present()
 void FixWirenetBonds::setup_pre_neighbor() { check_partners_present(); version++; }
 void FixWirenetBonds::pre_neighbor() { check_partners_present(); version++; }
 
-double FixWirenetBonds::extend_cut_ghost() { return ghost_extent; }
+// Comm::setup() takes the ghost cutoff as MAX(..., extend_cut_ghost() + skin). For spheres in an
+// orthogonal box (atom radius present) LIGGGHTS' granular border optimisation then copies only the
+// atoms within HALF of that cutoff (+ skin/2 + the atom's radius) of a subdomain face, so the
+// reach a bond needs is asked for twice there.
+double FixWirenetBonds::extend_cut_ghost()
+{
+  const bool halved = domain->triclinic == 0 && atom->radius != NULL;
+  return halved ? 2.0 * ghost_extent : ghost_extent;
+}
 
 double FixWirenetBonds::max_bond_length_global()
 {

@@ -174,3 +174,21 @@ def test_history_fix_id_taken(tmp_path):
                                    "fix wirenet_bonds all nve/sphere\nrun 0"), tmp_path)
     check_error(rc, out, "fix ID wirenet_bonds is taken")
 
+
+# ---- errors found by one rank only (LIGGGHTS' Error::one, which ends in MPI_Abort) ------------
+
+@pytest.mark.parametrize("np_", [1, 2])
+def test_zero_length_bond_is_reported(tmp_path, np_):
+    """The message of a one-rank error must survive the abort, also when the screen output goes to
+    a pipe (as here), and reach the log file when rank 0 found it (only rank 0 writes the log;
+    on two ranks both nodes, at x = 0, belong to rank 1)."""
+    atoms = [(1, 1, 0.0, 0.0, 0.0, 0.0108, 7850.0, 1), (2, 1, 0.0, 0.0, 0.0, 0.0108, 7850.0, 1)]
+    lmp.write_data(tmp_path / "zero.data", atoms, [(1, 1, 1, 2)])
+    rc, out = lmp.run_deck_rc(deck(f"bond_style wirenet\nbond_coeff 1 {GOOD}\nrun 0", data="zero.data"),
+                              tmp_path, np=np_)
+    assert rc != 0 and rc != -signal.SIGSEGV and "Segmentation fault" not in out
+    phrase = "bond_style wirenet: bond 1-2 has zero length"
+    errors = [l for l in out.splitlines() if "ERROR" in l]
+    assert len(errors) == 1 and phrase in errors[0], out[-2000:]
+    if np_ == 1:
+        assert phrase in (tmp_path / "log.lammps").read_text()

@@ -42,6 +42,10 @@ FixWirenetBonds::FixWirenetBonds(LAMMPS *lmp, int narg, char **arg) :
   extscalar = 0;
   global_freq = 1;
   local_flag = 1;
+  // The rupture rows are current at every step. Fix() leaves both frequencies uninitialised;
+  // dump local checks local_freq and compute reduce checks peratom_freq, even for local data.
+  local_freq = 1;
+  peratom_freq = 1;
   size_local_cols = RUPTURE_COLS;
   size_local_rows = 0;
   array_local = NULL;
@@ -158,9 +162,10 @@ void FixWirenetBonds::write_restart(FILE *fp)
 {
   if (comm->me != 0) return;
   double list[1] = { (double)nbroken_total };
-  int bytes = sizeof(list);  // Modify::read_restart reads a byte count, then the bytes
-  fwrite(&bytes, sizeof(int), 1, fp);
-  fwrite(list, sizeof(list), 1, fp);
+  // Modify::read_restart reads this many BYTES of state (not values).
+  int size = (int)sizeof(list);
+  fwrite(&size, sizeof(int), 1, fp);
+  fwrite(list, sizeof(double), 1, fp);
 }
 
 void FixWirenetBonds::restart(char *buf)
@@ -203,10 +208,13 @@ void FixWirenetBonds::refresh_local_array()
 }
 
 // Remove flagged bonds from the owning atoms, keeping bond slots and history records aligned.
-void FixWirenetBonds::remove_broken_bonds()
+// scan_all: look at every record, not only when this rank flagged bonds itself. Needed at setup:
+// a restart file written by the `restart` command in the middle of a run holds bonds flagged
+// at that step, which the new process has never counted as pending.
+void FixWirenetBonds::remove_broken_bonds(bool scan_all)
 {
   int removed = 0;
-  if (nbroken_pending) {
+  if (nbroken_pending || scan_all) {
     int *num_bond = atom->num_bond;
     int **bond_type = atom->bond_type;
     int **bond_atom = atom->bond_atom;
@@ -233,9 +241,9 @@ void FixWirenetBonds::remove_broken_bonds()
   }
 }
 
-void FixWirenetBonds::setup_pre_exchange() { remove_broken_bonds(); }
-void FixWirenetBonds::pre_exchange() { remove_broken_bonds(); }
-void FixWirenetBonds::post_run() { remove_broken_bonds(); }
+void FixWirenetBonds::setup_pre_exchange() { remove_broken_bonds(true); }
+void FixWirenetBonds::pre_exchange() { remove_broken_bonds(false); }
+void FixWirenetBonds::post_run() { remove_broken_bonds(false); }
 
 double FixWirenetBonds::compute_scalar()
 {
@@ -257,10 +265,10 @@ void FixWirenetBonds::check_partners_present()
       if (atom->map(bond_atom[i][m]) < 0) {
         char msg[512];
         snprintf(msg, sizeof(msg),
-                 "bond_style wirenet: bond %d-%d is longer than the ghost cutoff %g at step " BIGINT_FORMAT
-                 " (raise it with comm_modify cutoff, e.g. to twice the longest bond)",
-                 atom->tag[i], bond_atom[i][m], comm->cutghostuser > 0 ? comm->cutghostuser : ghost_extent,
-                 update->ntimestep);
+                 "bond_style wirenet: bond %d-%d reaches beyond the ghost atoms (bond length allowed for: %g m) "
+                 "at step " BIGINT_FORMAT " (raise it with 'communicate single cutoff C'; node spheres get "
+                 "ghosts within C/2 + skin/2 + radius, so give C = twice the longest bond)",
+                 atom->tag[i], bond_atom[i][m], ghost_extent, update->ntimestep);
         error->one(FLERR, msg);
       }
 }
@@ -268,7 +276,15 @@ void FixWirenetBonds::check_partners_present()
 void FixWirenetBonds::setup_pre_neighbor() { check_partners_present(); version++; }
 void FixWirenetBonds::pre_neighbor() { check_partners_present(); version++; }
 
-double FixWirenetBonds::extend_cut_ghost() { return ghost_extent; }
+// Comm::setup() takes the ghost cutoff as MAX(..., extend_cut_ghost() + skin). For spheres in an
+// orthogonal box (atom radius present) LIGGGHTS' granular border optimisation then copies only the
+// atoms within HALF of that cutoff (+ skin/2 + the atom's radius) of a subdomain face, so the
+// reach a bond needs is asked for twice there.
+double FixWirenetBonds::extend_cut_ghost()
+{
+  const bool halved = domain->triclinic == 0 && atom->radius != NULL;
+  return halved ? 2.0 * ghost_extent : ghost_extent;
+}
 
 double FixWirenetBonds::max_bond_length_global()
 {

@@ -78,7 +78,7 @@ class FixWirenetBonds : public Fix {
   int maxlocal;
 
   void reset_atom(int);
-  void remove_broken_bonds();
+  void remove_broken_bonds(bool scan_all);
   void check_partners_present();
   void refresh_local_array();
 };

@@ -55,6 +55,11 @@ class ArgCursor {
   size_t k_ = 0;
 };
 
+bool is_wire_keyword(const std::string &w)
+{
+  return w == "family" || w == "area_factor" || w == "derived" || w == "slack";
+}
+
 void parse_wire(ArgCursor &c, BondTypeSpec &spec)
 {
   WireLawParams &w = spec.wire;
@@ -63,6 +68,11 @@ void parse_wire(ArgCursor &c, BondTypeSpec &spec)
   if (kw != "curve") throw std::invalid_argument("wire: expected 'curve', got '" + kw + "'");
   std::vector<double> values;
   while (c.next_is_number()) values.push_back(c.number("curve value"));
+  // A word where a strain or a stress is due (no value yet, or a stress missing) that is not an
+  // option keyword is a mistyped number: name it rather than report a short curve.
+  if (!c.done() && (values.empty() || values.size() % 2) && !is_wire_keyword(c.peek()))
+    throw std::invalid_argument("wire curve value " + std::to_string(values.size() + 1) +
+                                " must be a number (got '" + c.peek() + "')");
   if (values.empty()) throw std::invalid_argument("wire curve is missing (strain stress pairs after 'curve')");
   if (values.size() % 2) throw std::invalid_argument("wire curve has an odd number of values (" +
                                                      std::to_string(values.size()) + "); give strain stress pairs");

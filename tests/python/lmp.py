@@ -33,23 +33,27 @@ class LiggghtsError(RuntimeError):
         super().__init__(self.error if isinstance(self.error, str) else str(self.error))
 
 
-def run_deck(deck, workdir, np=1, timeout=600, check=True):
-    """Run a deck text in workdir (with np MPI ranks); return the combined output.
-
-    Undecodable bytes are replaced: LIGGGHTS-PUBLIC's Error::all sometimes appends a "tip of the
-    day" through a dangling pointer (error_special.h), i.e. random bytes after the ERROR line."""
+def run_deck_rc(deck, workdir, np=1, timeout=600, name="in.deck"):
+    """Run a deck text in workdir (with np MPI ranks); return (exit code, combined output).
+    A negative exit code is the signal that killed LIGGGHTS (without mpirun)."""
     workdir = Path(workdir)
     workdir.mkdir(parents=True, exist_ok=True)
-    (workdir / "in.deck").write_text(deck)
-    cmd = [str(LIGGGHTS), "-in", "in.deck", "-log", "log.lammps", "-echo", "none"]
+    (workdir / name).write_text(deck)
+    cmd = [str(LIGGGHTS), "-in", name, "-log", "log.lammps", "-echo", "none"]
     if np > 1:
         cmd = ["mpirun", "-np", str(np)] + cmd
     env = dict(os.environ, **MPI_ENV)
     p = subprocess.run(cmd, cwd=workdir, env=env, stdout=subprocess.PIPE,
                        stderr=subprocess.STDOUT, text=True, errors="replace", timeout=timeout)
-    if check and (p.returncode != 0 or "ERROR" in p.stdout):
-        raise LiggghtsError(p.stdout)
-    return p.stdout
+    return p.returncode, p.stdout
+
+
+def run_deck(deck, workdir, np=1, timeout=600, check=True, name="in.deck"):
+    """Run a deck text in workdir (with np MPI ranks); return the combined output."""
+    rc, out = run_deck_rc(deck, workdir, np=np, timeout=timeout, name=name)
+    if check and (rc != 0 or "ERROR" in out):
+        raise LiggghtsError(out)
+    return out
 
 
 def write_data(path, atoms, bonds, natom_types=1, nbond_types=1, box=((-1, 1), (-1, 1), (-1, 1))):
@@ -83,3 +87,52 @@ def thermo_rows(output):
         elif header and line.startswith("Loop time"):
             header = None
     return rows
+
+
+def dump_local_frames(path):
+    """Frames of a `dump local` file: {step: 2-d numpy array of the entries}."""
+    import numpy as np
+    frames = {}
+    lines = Path(path).read_text().splitlines()
+    k = 0
+    while k < len(lines):
+        if lines[k].startswith("ITEM: TIMESTEP"):
+            step = int(lines[k + 1])
+            n = int(lines[k + 3])
+            # TIMESTEP, step, NUMBER, n, BOX BOUNDS + 3 lines, ENTRIES header
+            start = k + 9
+            rows = [[float(w) for w in l.split()] for l in lines[start:start + n]]
+            frames[step] = np.array(rows, dtype=float).reshape(n, -1) if n else np.zeros((0, 0))
+            k = start + n
+        else:
+            k += 1
+    return frames
+
+
+def dump_atom_frames(path):
+    """Frames of a `dump custom` file: {step: (column names, 2-d numpy array sorted by column 1)}."""
+    import numpy as np
+    frames = {}
+    lines = Path(path).read_text().splitlines()
+    k = 0
+    while k < len(lines):
+        if lines[k].startswith("ITEM: TIMESTEP"):
+            step = int(lines[k + 1])
+            n = int(lines[k + 3])
+            cols = lines[k + 8].split()[2:]
+            start = k + 9
+            a = np.array([[float(w) for w in l.split()] for l in lines[start:start + n]], dtype=float)
+            a = a.reshape(n, len(cols))
+            frames[step] = (cols, a[np.argsort(a[:, 0])])
+            k = start + n
+        else:
+            k += 1
+    return frames
+
+
+def sort_rows(a, keys=(0, 1)):
+    """Rows of a sorted by the given columns (first key most significant)."""
+    import numpy as np
+    if len(a) == 0:
+        return a
+    return a[np.lexsort(tuple(a[:, k] for k in reversed(keys)))]

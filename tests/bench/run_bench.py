@@ -1,0 +1,293 @@
+"""WireNet benchmarks (run by `./wirenet bench`; not a test).
+
+1. The bond loop: the default 3 m x 3 m hexagonal net of `wirenet-gen hex`, stretched by 0.08 %,
+   edges held, interior nodes integrated with fix nve/sphere for N steps after a small random
+   displacement of every node, once with
+   bond_style wirenet (wire laws, elastic range) and once with bond_style harmonic on the same
+   bonds (one harmonic type per distinct bond length, so every bond starts at rest). The time is
+   LIGGGHTS' own "Bond time" of the run's timing breakdown; the best of a few repeats is kept
+   (the machine may be shared). Reported: ns per bond and step, and the ratio wirenet/harmonic.
+2. `wirenet-gen hex --width 10 --height 10` (wall time).
+3. `/usr/bin/python3 -m postprocess.benchmark` (its own timing line).
+
+Prints a table and writes docs/PERFORMANCE.md (the part between the bench markers; notes outside
+them are kept).
+
+    /usr/bin/python3 tests/bench/run_bench.py [--steps 5000] [--repeats 3] [--out DIR] [--no-doc]
+"""
+
+import argparse
+import json
+import os
+import platform
+import re
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+BUILD = Path(os.environ.get("WIRENET_BUILD", ROOT / "build"))
+LIGGGHTS = BUILD / "bin" / "liggghts"
+GEN = BUILD / "bin" / "wirenet-gen"
+DOC = ROOT / "docs" / "PERFORMANCE.md"
+BEGIN, END = "<!-- bench:begin (written by tests/bench/run_bench.py) -->", "<!-- bench:end -->"
+
+SW = ("0.0019230769 2.5e8 0.0192 3.2195e8 0.05 3.8292e8 0.15 5.1219e8 "
+      "0.25 5.5854e8 0.30 5.6585e8 0.35 5.6585e8")
+WIRE_COEFFS = f"""bond_style wirenet
+bond_coeff 1 wire diameter 0.0027 curve {SW} family DT derived lambda_eps 0.4 lambda_k 0.66 nu 0.3
+bond_coeff 2 wire diameter 0.0027 curve {SW} family SW
+bond_coeff 3 wire diameter 0.0034 curve {SW} family selvedge
+bond_coeff 4 wire diameter 0.0027 curve {SW} family unused
+"""
+DT = 1e-6            # s; the shortest, stiffest bonds of the panel need about 1e-5
+PRESTRAIN = 8e-4     # uniform in-plane stretch of the net (elastic limit of the wires: 1.9e-3)
+PERTURB = 3e-6       # m, uniform in [-PERTURB, PERTURB] per coordinate
+SEED = 15485863     # LIGGGHTS wants a prime > 10000
+
+
+def deck(data, coeffs, steps):
+    """The net at rest (the wire bonds take their initial lengths at `run 0`), then stretched by
+    PRESTRAIN in x and y, every node displaced at random by up to PERTURB, edge nodes held, the
+    interior nodes integrated: every bond is loaded, in the elastic range, and vibrates."""
+    h = 1.5 * PRESTRAIN  # displacement at x, y = +-1.5 m
+    return f"""units si
+atom_style hybrid granular molecular
+atom_modify map array sort 0 0
+boundary f f f
+newton off on
+read_data {data}
+{coeffs}
+group interior type 1 5
+fix integrate interior nve/sphere
+timestep {DT!r}
+thermo 1000
+run 0
+displace_atoms all ramp x {-h!r} {h!r} x -1.5 1.5 units box
+displace_atoms all ramp y {-h!r} {h!r} y -1.5 1.5 units box
+displace_atoms all random {PERTURB!r} {PERTURB!r} {PERTURB!r} {SEED} units box
+run {steps}
+"""
+
+
+def read_data(path):
+    """Header lines, atoms section text, list of bonds (id, type, a, b), atom positions."""
+    text = Path(path).read_text().splitlines()
+    a0 = text.index("Atoms")
+    b0 = text.index("Bonds")
+    pos = {}
+    for line in text[a0 + 1:b0]:
+        w = line.split()
+        if len(w) >= 5:
+            pos[int(w[0])] = tuple(float(v) for v in w[2:5])
+    bonds = [tuple(int(v) for v in line.split()) for line in text[b0 + 1:] if line.split()]
+    return text, a0, b0, pos, bonds
+
+
+def harmonic_data(src, dst):
+    """Copy of the net with one bond type per distinct length (to 0.1 um); returns the
+    bond_coeff block: harmonic K (F = 2 K dr) with 2 K = the wire's initial stiffness
+    sigma_1 A / (eps_1 l0) at that length, r0 = the length."""
+    text, a0, b0, pos, bonds = read_data(src)
+    lengths = {}
+    out_bonds = []
+    for bid, btype, i, j in bonds:
+        d = sum((p - q) ** 2 for p, q in zip(pos[i], pos[j])) ** 0.5
+        key = (btype, round(d, 7))
+        if key not in lengths:
+            lengths[key] = len(lengths) + 1
+        out_bonds.append(f"{bid} {lengths[key]} {i} {j}")
+    header = [re.sub(r"^\s*\d+ bond types", f"{len(lengths)} bond types", l) for l in text[:a0]]
+    Path(dst).write_text("\n".join(header + text[a0:b0 + 1] + [""] + out_bonds) + "\n")
+    coeffs = ["bond_style harmonic"]
+    for (btype, d), t in sorted(lengths.items(), key=lambda kv: kv[1]):
+        diameter = 0.0034 if btype == 3 else 0.0027
+        area = 3.141592653589793 * diameter ** 2 / 4
+        k = 2.5e8 * area / (0.0019230769 * d)
+        coeffs.append(f"bond_coeff {t} {0.5 * k!r} {d!r}")
+    return "\n".join(coeffs) + "\n", len(lengths)
+
+
+def bond_time(output):
+    """(Bond time, loop time, steps, bonds) of the last run in a LIGGGHTS output."""
+    loops = re.findall(r"Loop time of ([0-9.eE+-]+) on \d+ procs for (\d+) steps", output)
+    bonds = re.findall(r"^Bond\s+time \(%\) = ([0-9.eE+-]+)", output, re.M)
+    if not loops or not bonds:
+        raise RuntimeError("no timing breakdown in the LIGGGHTS output:\n" + output[-2000:])
+    return float(bonds[-1]), float(loops[-1][0]), int(loops[-1][1])
+
+
+def run_liggghts(text, workdir, name):
+    (workdir / name).write_text(text)
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    p = subprocess.run([str(LIGGGHTS), "-in", name, "-log", "none", "-echo", "none"], cwd=workdir,
+                       env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    if p.returncode != 0 or "ERROR" in p.stdout:
+        raise RuntimeError(f"{name} failed:\n" + p.stdout[-3000:])
+    return p.stdout
+
+
+def machine_facts():
+    model = "unknown"
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                model = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    load = os.getloadavg() if hasattr(os, "getloadavg") else (float("nan"),) * 3
+    return {"nproc": os.cpu_count(), "cpu": model, "kernel": platform.release(),
+            "python": platform.python_version(), "load_average": [round(v, 2) for v in load]}
+
+
+def bench_bonds(out, steps, repeats):
+    subprocess.run([str(GEN), "hex", "--out", str(out / "net3x3")], check=True, stdout=subprocess.DEVNULL)
+    meta = json.loads((out / "net3x3.json").read_text())
+    natoms, nbonds = meta["counts"]["atoms"], meta["counts"]["bonds"]
+    hcoeffs, ntypes = harmonic_data(out / "net3x3.data", out / "net3x3_harmonic.data")
+    # the tensions are dumped at the first and the last step only (output time is not Bond time)
+    wire = WIRE_COEFFS + f"compute bl all wirenet/local\ndump bd all local {steps} tension.dump c_bl[6] c_bl[5]\n"
+    decks = {"wirenet": deck("net3x3.data", wire, steps),
+             "harmonic": deck("net3x3_harmonic.data", hcoeffs, steps)}
+    best = {k: None for k in decks}
+    for r in range(repeats):
+        for name, text in decks.items():   # alternate, so both see the same machine load
+            res = bond_time(run_liggghts(text, out, f"in.{name}"))
+            if best[name] is None or res[0] < best[name][0]:
+                best[name] = res
+    rows = {}
+    for name, (tb, tl, n) in best.items():
+        rows[name] = {"bond_time_s": tb, "loop_time_s": tl, "steps": n,
+                      "ns_per_bond_step": tb / (n * nbonds) * 1e9}
+    return {"atoms": natoms, "bonds": nbonds, "harmonic_types": ntypes, "steps": steps,
+            "repeats": repeats, "dt": DT, "perturbation_m": PERTURB, "runs": rows,
+            "ratio": rows["wirenet"]["bond_time_s"] / rows["harmonic"]["bond_time_s"]}
+
+
+def tension_share(out):
+    """(Fraction of wire bonds carrying tension, largest strain) in the last frame of the wirenet
+    run's bond dump (a slack wire skips the force update, which a harmonic bond never does)."""
+    lines = (out / "tension.dump").read_text().splitlines()
+    start = max(k for k, l in enumerate(lines) if l.startswith("ITEM: ENTRIES")) + 1
+    rows = [[float(v) for v in l.split()] for l in lines[start:] if l.strip()]
+    loaded = sum(1 for r in rows if r[0] > 0) / max(len(rows), 1)
+    return loaded, max(abs(r[1]) for r in rows)
+
+
+def bench_generator(out, repeats):
+    best = None
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        subprocess.run([str(GEN), "hex", "--width", "10", "--height", "10", "--out", str(out / "net10x10")],
+                       check=True, stdout=subprocess.DEVNULL)
+        dt = time.perf_counter() - t0
+        best = dt if best is None else min(best, dt)
+    meta = json.loads((out / "net10x10.json").read_text())
+    return {"seconds": best, "atoms": meta["counts"]["atoms"], "bonds": meta["counts"]["bonds"]}
+
+
+def bench_postprocess():
+    t0 = time.perf_counter()
+    p = subprocess.run(["/usr/bin/python3", "-m", "postprocess.benchmark"], cwd=ROOT,
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    wall = time.perf_counter() - t0
+    line = p.stdout.strip().splitlines()[-1] if p.stdout.strip() else ""
+    m = re.search(r"zone: ([0-9.]+) s", line)
+    return {"wall_seconds": wall, "zone_seconds": float(m.group(1)) if m else None, "line": line,
+            "exit": p.returncode}
+
+
+def table(res):
+    b = res["bonds"]
+    lines = ["| case | bonds | steps | Bond time (s) | loop time (s) | ns per bond-step |",
+             "|---|---|---|---|---|---|"]
+    for name in ("wirenet", "harmonic"):
+        r = b["runs"][name]
+        lines.append(f"| bond_style {name} | {b['bonds']} | {r['steps']} | {r['bond_time_s']:.4f} | "
+                     f"{r['loop_time_s']:.4f} | {r['ns_per_bond_step']:.1f} |")
+    lines.append("")
+    lines.append(f"ratio wirenet / harmonic (Bond time): **{b['ratio']:.2f}** (target <= 1.5); "
+                 f"wire bonds in tension at the end: {100 * res['tension_share'][0]:.0f} %, largest strain "
+                 f"{res['tension_share'][1]:.2g} (elastic up to 1.9e-3)")
+    lines.append("")
+    g, p = res["generator"], res["postprocess"]
+    lines += ["| other | time |", "|---|---|",
+              f"| `wirenet-gen hex --width 10 --height 10` ({g['atoms']} atoms, {g['bonds']} bonds) | "
+              f"{g['seconds']:.2f} s (best of {res['repeats']}) |",
+              f"| `/usr/bin/python3 -m postprocess.benchmark` (zone statistics of 100 frames x 10 000 bonds) | "
+              f"zone {p['zone_seconds']} s, whole command {p['wall_seconds']:.1f} s |"]
+    return "\n".join(lines)
+
+
+def shown(path):
+    """A path relative to the repository when it lies inside it."""
+    try:
+        return str(Path(path).resolve().relative_to(ROOT))
+    except ValueError:
+        return str(path)
+
+
+def write_doc(res, text):
+    m = res["machine"]
+    block = "\n".join([
+        BEGIN,
+        f"Measured {time.strftime('%Y-%m-%d %H:%M %Z')} with `{res['command']}`",
+        f"(LIGGGHTS binary `{shown(LIGGGHTS)}`, {res['bonds']['atoms']} atoms, {res['bonds']['bonds']} bonds, "
+        f"{res['bonds']['steps']} steps of {DT:g} s; net stretched by {PRESTRAIN:g}, edges held, nodes displaced "
+        f"at random by up to {PERTURB * 1e6:g} um; "
+        f"best of {res['repeats']} alternating repeats, 1 MPI rank).",
+        "",
+        f"Machine: {m['nproc']} CPUs (`nproc`), {m['cpu']}, Linux {m['kernel']}, "
+        f"load average at the start {m['load_average'][0]} (other jobs may share the CPUs).",
+        "",
+        text,
+        END,
+    ])
+    if DOC.exists():
+        old = DOC.read_text()
+        if BEGIN in old and END in old:
+            new = old[:old.index(BEGIN)] + block + old[old.index(END) + len(END):]
+        else:
+            new = old.rstrip() + "\n\n" + block + "\n"
+    else:
+        new = ("# Performance\n\n`./wirenet bench` (or `WIRENET_BUILD=build /usr/bin/python3 "
+               "tests/bench/run_bench.py`) measures the bond loop of bond_style wirenet against "
+               "bond_style harmonic, the generator and the post-processing.\n\n" + block + "\n")
+    DOC.parent.mkdir(parents=True, exist_ok=True)
+    DOC.write_text(new)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog="run_bench.py")
+    ap.add_argument("--steps", type=int, default=5000)
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--out", type=Path, default=BUILD / "bench")
+    ap.add_argument("--no-doc", action="store_true", help="do not rewrite docs/PERFORMANCE.md")
+    opts = ap.parse_args(argv)
+    for exe in (LIGGGHTS, GEN):
+        if not exe.exists():
+            sys.exit(f"run_bench.py: {exe} is missing; build first (./wirenet setup)")
+    opts.out.mkdir(parents=True, exist_ok=True)
+    res = {"machine": machine_facts(), "repeats": opts.repeats,
+           "command": "./wirenet bench" + "".join(f" {a}" for a in (argv or sys.argv[1:]))}
+    print(f"[bench] bond loop: 3 m x 3 m hex net, {opts.steps} steps, best of {opts.repeats}", flush=True)
+    res["bonds"] = bench_bonds(opts.out, opts.steps, opts.repeats)
+    res["tension_share"] = tension_share(opts.out)
+    print("[bench] wirenet-gen hex --width 10 --height 10", flush=True)
+    res["generator"] = bench_generator(opts.out, opts.repeats)
+    print("[bench] python3 -m postprocess.benchmark", flush=True)
+    res["postprocess"] = bench_postprocess()
+    text = table(res)
+    print()
+    print(text)
+    (opts.out / "results.json").write_text(json.dumps(res, indent=2) + "\n")
+    if not opts.no_doc:
+        write_doc(res, text)
+        print(f"\n[bench] wrote {DOC}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

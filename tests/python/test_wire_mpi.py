@@ -1,0 +1,131 @@
+"""bond_style wirenet gives the same answer on 1 and 2 MPI ranks.
+
+The net of netdeck.py is pulled along +x until wires break, with the rank split plane (x = 0)
+through the middle of the net: bonds straddle the two subdomains all the time, and nodes migrate
+from rank 0 to rank 1 as the net stretches. The per-bond history must travel with its atom, bonds
+whose partner is a ghost must see the same elongation, and ruptures must be decided identically.
+
+Only the order of floating-point additions differs between the two decompositions (a node's force
+is summed from local and ghost contributions). In an undamped tearing net those 1e-16 differences
+grow exponentially, so the test damps the free nodes (fix viscous) and pulls slowly: the
+comparison then checks the decomposition, not the chaos.
+"""
+
+import numpy as np
+
+import lmp
+import netdeck
+
+SPEED = 2.0        # m/s, x edge at +0.3
+GAMMA = 200.0      # N s/m per node (node mass 3.9 g: strongly damped, quasi-static pull)
+DT = 1e-5          # s (stable limit about 1.4e-5 for these nodes and wires)
+STEPS = 10000      # the edge moves 0.2 m; wires break from about step 3500
+EVERY = 1000
+RTOL = 1e-10
+
+
+def run(tmp_path, np_):
+    wd = tmp_path / f"np{np_}"
+    netdeck.make_net(wd)
+    deck = netdeck.setup(SPEED, GAMMA, DT) + "thermo 1000\nrun 0\n" + netdeck.outputs(EVERY) + f"run {STEPS}\n"
+    out = lmp.run_deck(deck, wd, np=np_)
+    return wd, out
+
+
+def rel_err(a, b, floor):
+    return np.abs(a - b) / np.maximum(np.maximum(np.abs(a), np.abs(b)), floor)
+
+
+def test_one_and_two_ranks_agree(tmp_path):
+    wd1, out1 = run(tmp_path, 1)
+    wd2, out2 = run(tmp_path, 2)
+    assert "1 by 1 by 1 MPI processor grid" in out1
+    assert "2 by 1 by 1 MPI processor grid" in out2
+
+    b1, b2 = netdeck.bonds_by_step(wd1), netdeck.bonds_by_step(wd2)
+    assert sorted(b1) == sorted(b2) == list(range(0, STEPS + 1, EVERY))
+    initial = {tuple(r) for r in b1[0][:, :2].astype(int)}
+    assert len(initial) == 215
+    for step in b1:
+        a, b = b1[step], b2[step]
+        # same intact bonds (atom pairs and types)
+        assert a.shape == b.shape, f"step {step}: {len(a)} bonds on 1 rank, {len(b)} on 2"
+        assert np.array_equal(a[:, :3], b[:, :3]), f"step {step}: different intact bonds"
+        if step == 0:
+            continue
+        tmax = np.abs(a[:, 5]).max()
+        assert tmax > 100.0, f"step {step}: the net is not loaded (max tension {tmax} N)"
+        # per-bond tension and strain. One unit in the last place of a node coordinate (5e-17 m)
+        # times a wire stiffness of 2e7 N/m is 1e-9 N: relative to a nearly slack bond that is no
+        # longer small, so the ratio is taken against at least 1 % of the largest value.
+        err = rel_err(a[:, 5], b[:, 5], 1e-2 * tmax)
+        assert err.max() < RTOL, f"step {step}: tension differs by {err.max():.3g} (bond {a[err.argmax(), :2]})"
+        err = rel_err(a[:, 4], b[:, 4], 1e-2 * np.abs(a[:, 4]).max())
+        assert err.max() < RTOL, f"step {step}: strain differs by {err.max():.3g}"
+        np.testing.assert_array_equal(a[:, 3], b[:, 3])  # initial lengths: exactly the same
+
+    # ruptures: the same bonds, at the same step, at the same elongation
+    final = b1[STEPS]
+    intact = {tuple(r) for r in final[:, :2].astype(int)}
+    broken = initial - intact
+    assert len(broken) >= 5, f"only {len(broken)} bonds broke"
+    assert len(intact) >= 150, "the net fell apart: the comparison would test nothing"
+    r1, r2 = netdeck.ruptures_by_step(wd1)[STEPS], netdeck.ruptures_by_step(wd2)[STEPS]
+    assert {tuple(r) for r in r1[:, 1:3].astype(int)} == broken
+    assert {tuple(r) for r in r2[:, 1:3].astype(int)} == broken
+    np.testing.assert_array_equal(r1[:, :4], r2[:, :4])  # step atom1 atom2 type
+    assert rel_err(r1[:, 7], r2[:, 7], 1e-6).max() < RTOL  # elongation at rupture
+    assert np.abs(r1[:, 4:7] - r2[:, 4:7]).max() < 1e-12  # rupture position (m)
+
+    # the broken count of the history fix (thermo) matches on both
+    n1 = [r["nb"] for r in lmp.thermo_rows(out1)]
+    n2 = [r["nb"] for r in lmp.thermo_rows(out2)]
+    assert n1 == n2 and n1[-1] == len(broken)
+
+    # the decomposition did something: bonds straddle the split plane x = 0 throughout, and nodes
+    # crossed it (migrated from rank 0 to rank 1) during the run
+    atoms = lmp.dump_atom_frames(wd2 / "atoms.dump")
+    side0 = None
+    crossed = set()
+    for step, (cols, a) in sorted(atoms.items()):
+        x = dict(zip(a[:, 0].astype(int), a[:, cols.index("x")]))
+        side = {i: xi >= 0.0 for i, xi in x.items()}
+        straddling = [1 for (i, j) in (tuple(r) for r in b2[step][:, :2].astype(int)) if side[i] != side[j]]
+        assert len(straddling) >= 5, f"step {step}: only {len(straddling)} bonds cross x = 0"
+        if side0 is None:
+            side0 = side
+        crossed |= {i for i in side if side[i] != side0[i]}
+    assert len(crossed) >= 5, f"only {len(crossed)} nodes changed rank"
+
+
+def test_long_bond_across_ranks(tmp_path):
+    """A bond much longer than the default ghost cutoff, split by the rank boundary, needs no
+    `communicate cutoff`: the style extends the ghost cutoff itself (LIGGGHTS halves it for
+    spheres, which the extension must allow for)."""
+    results = {}
+    for np_ in (1, 2):
+        wd = tmp_path / f"np{np_}"
+        wd.mkdir()
+        # node 1 just left of the split plane, node 2 0.18 m right of it: the bond is stored on
+        # node 1 (rank 0) and node 2 must be a ghost there
+        atoms = [(1, 1, -0.02, 0.0, 0.0, 0.0108, 7850.0, 1), (2, 1, 0.18, 0.0, 0.0, 0.0108, 7850.0, 1)]
+        lmp.write_data(wd / "long.data", atoms, [(1, 1, 1, 2)])
+        deck = lmp.PREAMBLE + f"""processors * 1 1
+read_data long.data
+bond_style wirenet
+bond_coeff 1 wire diameter 0.0027 curve {netdeck.SW_CURVE}
+group pulled id 2
+fix pull pulled move linear 1 0 0
+compute bl all wirenet/local
+compute T all reduce sum c_bl[6]
+variable T equal c_T
+thermo_style custom step v_T
+thermo_modify format float %.17g
+thermo 100
+timestep 1e-5
+run 1000
+"""
+        out = lmp.run_deck(deck, wd, np=np_)
+        results[np_] = [r["T"] for r in lmp.thermo_rows(out)]
+    assert results[1] == results[2]
+    assert results[1][-1] > 1000.0  # loaded (elongation 10 mm on 0.2 m)

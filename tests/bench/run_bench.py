@@ -7,6 +7,7 @@
    bonds (one harmonic type per distinct bond length, so every bond starts at rest). The time is
    LIGGGHTS' own "Bond time" of the run's timing breakdown; the best of a few repeats is kept
    (the machine may be shared). Reported: ns per bond and step, and the ratio wirenet/harmonic.
+   The same for the beam law on a strand-rope mesh (0.1 m cells) against bond_style harmonic.
 2. `wirenet-gen hex --width 10 --height 10` (wall time).
 3. `/usr/bin/python3 -m postprocess.benchmark` (its own timing line).
 
@@ -166,6 +167,34 @@ def bench_bonds(out, steps, repeats):
             "ratio": rows["wirenet"]["bond_time_s"] / rows["harmonic"]["bond_time_s"]}
 
 
+BEAM_COEFFS = """bond_style wirenet
+bond_coeff 1*3 wire diameter 0.0027 curve 0.0019230769 2.5e8 0.35 5.6585e8
+bond_coeff 4 beam diameter 0.01 E 6e10 nu 0.3 bending 0.05 family rope
+"""
+
+
+def bench_beam(out, steps, repeats):
+    """The beam law on a strand-rope mesh (0.1 m cells, 3 elements a side) against bond_style
+    harmonic on the same bonds: the rope bonds carry axial, shear, bending and twist terms."""
+    subprocess.run([str(GEN), "square", "--cell", "0.1", "--out", str(out / "rope3x3")], check=True,
+                   stdout=subprocess.DEVNULL)
+    meta = json.loads((out / "rope3x3.json").read_text())
+    nbonds = meta["counts"]["bonds"]
+    hcoeffs, _ = harmonic_data(out / "rope3x3.data", out / "rope3x3_harmonic.data")
+    decks = {"wirenet": deck("rope3x3.data", BEAM_COEFFS, steps),
+             "harmonic": deck("rope3x3_harmonic.data", hcoeffs, steps)}
+    best = {k: None for k in decks}
+    for _ in range(repeats):
+        for name, text in decks.items():
+            res = bond_time(run_liggghts(text, out, f"in.beam_{name}"))
+            if best[name] is None or res[0] < best[name][0]:
+                best[name] = res
+    rows = {name: {"bond_time_s": tb, "steps": n, "ns_per_bond_step": tb / (n * nbonds) * 1e9}
+            for name, (tb, tl, n) in best.items()}
+    return {"bonds": nbonds, "runs": rows,
+            "ratio": rows["wirenet"]["bond_time_s"] / rows["harmonic"]["bond_time_s"]}
+
+
 def tension_share(out):
     """(Fraction of wire bonds carrying tension, largest strain) in the last frame of the wirenet
     run's bond dump (a slack wire skips the force update, which a harmonic bond never does)."""
@@ -212,6 +241,12 @@ def table(res):
                  f"wire bonds in tension at the end: {100 * res['tension_share'][0]:.0f} %, largest strain "
                  f"{res['tension_share'][1]:.2g} (elastic up to 1.9e-3)")
     lines.append("")
+    bm = res["beam"]
+    lines += ["| beam law (strand-rope mesh) | bonds | ns per bond-step |", "|---|---|---|"]
+    for name in ("wirenet", "harmonic"):
+        lines.append(f"| bond_style {name} | {bm['bonds']} | {bm['runs'][name]['ns_per_bond_step']:.1f} |")
+    lines += ["", f"ratio beam / harmonic (Bond time): **{bm['ratio']:.2f}** (target <= 5; LAMMPS' "
+              "bpm/rotational is about 30)", ""]
     g, p = res["generator"], res["postprocess"]
     lines += ["| other | time |", "|---|---|",
               f"| `wirenet-gen hex --width 10 --height 10` ({g['atoms']} atoms, {g['bonds']} bonds) | "
@@ -275,6 +310,8 @@ def main(argv=None):
     print(f"[bench] bond loop: 3 m x 3 m hex net, {opts.steps} steps, best of {opts.repeats}", flush=True)
     res["bonds"] = bench_bonds(opts.out, opts.steps, opts.repeats)
     res["tension_share"] = tension_share(opts.out)
+    print(f"[bench] beam law: strand-rope mesh, {opts.steps} steps, best of {opts.repeats}", flush=True)
+    res["beam"] = bench_beam(opts.out, opts.steps, opts.repeats)
     print("[bench] wirenet-gen hex --width 10 --height 10", flush=True)
     res["generator"] = bench_generator(opts.out, opts.repeats)
     print("[bench] python3 -m postprocess.benchmark", flush=True)

@@ -177,9 +177,8 @@ void BondWirenet::init_record(const Entry &e, double length)
   if (wires[e.type]) {
     wires[e.type]->init_bond(e.h, length, atom->tag[e.i], atom->tag[e.j]);
   } else {
-    const double *q = history->orientation(e.i), *p = history->orientation(e.j);
     beams[e.type]->init_bond(e.h, Eigen::Vector3d(atom->x[e.i]), Eigen::Vector3d(atom->x[e.j]),
-                             Eigen::Quaterniond(q[0], q[1], q[2], q[3]), Eigen::Quaterniond(p[0], p[1], p[2], p[3]));
+                             BeamLaw::Rotation(history->rotation(e.i)), BeamLaw::Rotation(history->rotation(e.j)));
   }
 }
 
@@ -208,11 +207,10 @@ inline void BondWirenet::compute_wire(const Entry &e, double dx, double dy, doub
 inline void BondWirenet::compute_beam(const Entry &e, int eflag)
 {
   double **x = atom->x;
-  const double *qi = history->orientation(e.i), *qj = history->orientation(e.j);
   BeamResult out;
   beams[e.type]->evaluate(e.h, Eigen::Vector3d(x[e.i]), Eigen::Vector3d(x[e.j]),
-                          Eigen::Quaterniond(qi[0], qi[1], qi[2], qi[3]),
-                          Eigen::Quaterniond(qj[0], qj[1], qj[2], qj[3]), out);
+                          BeamLaw::Rotation(history->rotation(e.i)), BeamLaw::Rotation(history->rotation(e.j)), out,
+                          eflag != 0);
   double **f = atom->f, **t = atom->torque;
   for (int d = 0; d < 3; d++) {
     f[e.i][d] += out.force_i[d];
@@ -238,6 +236,7 @@ void BondWirenet::compute(int eflag, int vflag)
   for (const Entry &e : list) {
     const double l0 = e.h[FixWirenetBonds::L0];
     if (l0 < 0.0) continue;  // broken earlier, awaiting removal
+    if (l0 > 0.0 && !wires[e.type]) { compute_beam(e, eflag); continue; }
     const double dx = x[e.j][0] - x[e.i][0];
     const double dy = x[e.j][1] - x[e.i][1];
     const double dz = x[e.j][2] - x[e.i][2];
@@ -301,10 +300,9 @@ bool BondWirenet::bond_state(int i, int m, int j, BondState &s) const
     s.tension = wires[type]->tension_const(s.length - s.length0, h);
     s.shear = s.moment = 0.0;
   } else {
-    const double *qi = history->orientation(i), *qj = history->orientation(j);
     BeamResult out;
-    beams[type]->evaluate(h, Eigen::Vector3d(x[i]), Eigen::Vector3d(x[j]), Eigen::Quaterniond(qi[0], qi[1], qi[2], qi[3]),
-                          Eigen::Quaterniond(qj[0], qj[1], qj[2], qj[3]), out);
+    beams[type]->evaluate(h, Eigen::Vector3d(x[i]), Eigen::Vector3d(x[j]), BeamLaw::Rotation(history->rotation(i)),
+                          BeamLaw::Rotation(history->rotation(j)), out);
     s.tension = out.axial;
     s.shear = out.shear;
     s.moment = out.moment;

@@ -26,7 +26,7 @@ static const int RUPTURE_COLS = 8;
 
 FixWirenetBonds::FixWirenetBonds(LAMMPS *lmp, int narg, char **arg) :
   Fix(lmp, narg, arg),
-  hist(NULL), quat(NULL), orient_flag(0), version(0), ghost_extent(0.0),
+  hist(NULL), quat(NULL), rot(NULL), orient_flag(0), version(0), ghost_extent(0.0),
   nbroken_total(0), nbroken_pending(0), maxlocal(0)
 {
   if (narg != 3) error->all(FLERR, "fix wirenet/bonds takes no arguments (it is created by bond_style wirenet)");
@@ -49,7 +49,7 @@ FixWirenetBonds::FixWirenetBonds(LAMMPS *lmp, int narg, char **arg) :
   size_local_cols = RUPTURE_COLS;
   size_local_rows = 0;
   array_local = NULL;
-  comm_forward = 4;
+  comm_forward = 9;
 
   nslots = atom->bond_per_atom;
   grow_arrays(atom->nmax);
@@ -64,6 +64,7 @@ FixWirenetBonds::~FixWirenetBonds()
   atom->delete_callback(id, 1);
   memory->destroy(hist);
   memory->destroy(quat);
+  memory->destroy(rot);
   memory->destroy(array_local);
 }
 
@@ -92,6 +93,7 @@ void FixWirenetBonds::grow_arrays(int nmax)
 {
   memory->grow(hist, nmax, nslots > 0 ? nslots * NHIST : 1, "wirenet/bonds:hist");
   memory->grow(quat, nmax, 4, "wirenet/bonds:quat");
+  memory->grow(rot, nmax, 9, "wirenet/bonds:rot");
 }
 
 void FixWirenetBonds::copy_arrays(int i, int j, int)
@@ -144,18 +146,17 @@ int FixWirenetBonds::pack_comm(int n, int *list, double *buf, int, int *)
 {
   int m = 0;
   for (int k = 0; k < n; k++) {
-    const double *q = quat[list[k]];
-    buf[m++] = q[0]; buf[m++] = q[1]; buf[m++] = q[2]; buf[m++] = q[3];
+    const double *r = rot[list[k]];
+    for (int c = 0; c < 9; c++) buf[m++] = r[c];
   }
-  return 4;  // values per atom (LIGGGHTS' forward_comm_fix convention)
+  return 9;  // values per atom (LIGGGHTS' forward_comm_fix convention)
 }
 
 void FixWirenetBonds::unpack_comm(int n, int first, double *buf)
 {
   int m = 0;
-  for (int i = first; i < first + n; i++) {
-    quat[i][0] = buf[m++]; quat[i][1] = buf[m++]; quat[i][2] = buf[m++]; quat[i][3] = buf[m++];
-  }
+  for (int i = first; i < first + n; i++)
+    for (int c = 0; c < 9; c++) rot[i][c] = buf[m++];
 }
 
 void FixWirenetBonds::write_restart(FILE *fp)
@@ -351,11 +352,25 @@ void FixWirenetBonds::post_integrate()
   }
 }
 
-void FixWirenetBonds::setup_pre_force(int) { if (orient_flag) comm->forward_comm_fix(this); }
-void FixWirenetBonds::pre_force(int) { if (orient_flag) comm->forward_comm_fix(this); }
+// The beam law reads rotation matrices: computed once per node and step rather than once per
+// bond end, and sent to the ghosts.
+void FixWirenetBonds::refresh_rotations()
+{
+  for (int i = 0; i < atom->nlocal; i++) {
+    const double w = quat[i][0], x = quat[i][1], y = quat[i][2], z = quat[i][3];
+    double *r = rot[i];
+    r[0] = 1 - 2 * (y * y + z * z); r[1] = 2 * (x * y - w * z);     r[2] = 2 * (x * z + w * y);
+    r[3] = 2 * (x * y + w * z);     r[4] = 1 - 2 * (x * x + z * z); r[5] = 2 * (y * z - w * x);
+    r[6] = 2 * (x * z - w * y);     r[7] = 2 * (y * z + w * x);     r[8] = 1 - 2 * (x * x + y * y);
+  }
+  comm->forward_comm_fix(this);
+}
+
+void FixWirenetBonds::setup_pre_force(int) { if (orient_flag) refresh_rotations(); }
+void FixWirenetBonds::pre_force(int) { if (orient_flag) refresh_rotations(); }
 
 double FixWirenetBonds::memory_usage()
 {
-  return (double)atom->nmax * (nslots * NHIST + 4) * sizeof(double) +
+  return (double)atom->nmax * (nslots * NHIST + 13) * sizeof(double) +
          (double)maxlocal * RUPTURE_COLS * sizeof(double);
 }

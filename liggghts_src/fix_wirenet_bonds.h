@@ -53,7 +53,8 @@ class FixWirenetBonds : public Fix {
 
   // --- interface for bond_style wirenet ---
   double *record(int i, int m) { return hist[i] + m * NHIST; }
-  const double *orientation(int i) const { return quat[i]; }
+  // rotation matrix (row-major) of node i's orientation, local and ghost atoms, current step
+  const double *rotation(int i) const { return rot[i]; }
   // bumped whenever local atom indices or bond slots may have changed
   long list_version() const { return version; }
   void use_orientations() { orient_flag = 1; }
@@ -67,6 +68,7 @@ class FixWirenetBonds : public Fix {
   int nslots;        // bond slots per atom (atom->bond_per_atom when created)
   double **hist;     // [nmax][nslots * NHIST]
   double **quat;     // [nmax][4] node orientation (w, x, y, z), space frame
+  double **rot;      // [nmax][9] its rotation matrix, derived each step, sent to ghosts
   int orient_flag;
   long version;
   double ghost_extent;
@@ -78,6 +80,7 @@ class FixWirenetBonds : public Fix {
   int maxlocal;
 
   void reset_atom(int);
+  void refresh_rotations();
   void remove_broken_bonds(bool scan_all);
   void check_partners_present();
   void refresh_local_array();

@@ -4,6 +4,8 @@
    t = R q d0 is compared with the chord: theta = rotation vector taking e to t (bending of that
    end relative to the chord). A rigid rotation of the pair rotates e and t alike, so theta's
    magnitude and every force and moment are unchanged: the law is objective for any rotation.
+   The twist phi is the angle about e between the two ends' reference normals projected on the
+   plane normal to e (objective as well; exact in pure twist).
    With Kb = f E I / L0 and the shear coupling Cs (= Ks L0^2 / 4):
      moments  M_i = -(Kb (th_i - th_j) + Cs (th_i + th_j)) + Kt phi e,
               M_j = -(Kb (th_j - th_i) + Cs (th_i + th_j)) - Kt phi e,
@@ -19,7 +21,6 @@
 
 namespace WireNet {
 
-using Eigen::Quaterniond;
 using Eigen::Vector3d;
 
 namespace {
@@ -32,23 +33,31 @@ void require(bool ok, const std::string &what, double got)
   throw std::invalid_argument(s.str());
 }
 
+// Bonds bend little: below these sizes the series are exact to round-off and skip the
+// transcendental calls that would otherwise dominate the bond's cost.
+const double SMALL_SIN2 = 0.05 * 0.05;
+const double SMALL_TAN = 0.05;
+
 // Rotation vector of the smallest rotation taking unit vector a onto unit vector b.
-inline Vector3d rotation_between(const Vector3d &a, const Vector3d &b)
+__attribute__((always_inline)) inline Vector3d rotation_between(const Vector3d &a, const Vector3d &b)
 {
   const Vector3d c = a.cross(b);
-  const double s = c.norm(), co = a.dot(b);
+  const double s2 = c.squaredNorm(), co = a.dot(b);
+  if (co > 0.0 && s2 < SMALL_SIN2)  // angle / sin(angle) = asin(s) / s
+    return c * (1.0 + s2 * (1.0 / 6 + s2 * (3.0 / 40 + s2 * (5.0 / 112 + s2 * (35.0 / 1152)))));
+  const double s = std::sqrt(s2);
   if (s < 1e-300) return Vector3d::Zero();
   return c * (std::atan2(s, co) / s);
 }
 
-// v rotated by rotation vector th (Rodrigues).
-inline Vector3d rotate(const Vector3d &v, const Vector3d &th)
+// atan2(y, x), by its series when the angle is small
+__attribute__((always_inline)) inline double angle(double y, double x)
 {
-  const double a = th.norm();
-  if (a < 1e-300) return v;
-  const Vector3d k = th / a;
-  const double c = std::cos(a), s = std::sin(a);
-  return v * c + k.cross(v) * s + k * (k.dot(v) * (1.0 - c));
+  if (x > 0.0 && std::fabs(y) < SMALL_TAN * x) {
+    const double r = y / x, r2 = r * r;
+    return r * (1.0 - r2 * (1.0 / 3 - r2 * (1.0 / 5 - r2 * (1.0 / 7 - r2 * (1.0 / 9)))));
+  }
+  return std::atan2(y, x);
 }
 
 inline Vector3d load3(const double *h) { return Vector3d(h[0], h[1], h[2]); }
@@ -70,21 +79,25 @@ BeamLaw::BeamLaw(const BeamLawParams &p) : p_(p)
   polar_ = 2.0 * inertia_;
   young_ = p.young;
   shear_modulus_ = p.young / (2.0 * (1.0 + p.nu));
+  EA_ = young_ * area_;
+  fEI_ = p.bending * young_ * inertia_;
+  ftGJ_ = twist_fraction_ * shear_modulus_ * polar_;
+  GA_ = shear_modulus_ * area_;
 }
 
 BeamLaw::Stiffness BeamLaw::stiffness(double l0) const
 {
+  const double inv = 1.0 / l0;
   Stiffness k;
-  k.axial = young_ * area_ / l0;
-  k.bending = p_.bending * young_ * inertia_ / l0;
-  k.shear_coupling = p_.shear == ShearModel::EULER_BERNOULLI ? 3.0 * k.bending
-                                                             : 0.25 * shear_modulus_ * area_ * l0;
-  k.twist = twist_fraction_ * shear_modulus_ * polar_ / l0;
+  k.axial = EA_ * inv;
+  k.bending = fEI_ * inv;
+  k.shear_coupling = p_.shear == ShearModel::EULER_BERNOULLI ? 3.0 * k.bending : 0.25 * GA_ * l0;
+  k.twist = ftGJ_ * inv;
   return k;
 }
 
-void BeamLaw::init_bond(double *h, const Vector3d &xi, const Vector3d &xj, const Quaterniond &qi,
-                        const Quaterniond &qj) const
+void BeamLaw::init_bond(double *h, const Vector3d &xi, const Vector3d &xj, const Rotation &ri,
+                        const Rotation &rj) const
 {
   const Vector3d d = xj - xi;
   const double l0 = d.norm();
@@ -94,39 +107,42 @@ void BeamLaw::init_bond(double *h, const Vector3d &xi, const Vector3d &xj, const
   if (n.norm() < 0.1) n = e.cross(Vector3d::UnitX());
   n.normalize();
   h[B_L0] = l0;
-  store3(h + B_DI, qi.conjugate() * e);
-  store3(h + B_DJ, qj.conjugate() * e);
-  store3(h + B_PI, qi.conjugate() * n);
-  store3(h + B_PJ, qj.conjugate() * n);
+  store3(h + B_DI, ri.transpose() * e);
+  store3(h + B_DJ, rj.transpose() * e);
+  store3(h + B_PI, ri.transpose() * n);
+  store3(h + B_PJ, rj.transpose() * n);
 }
 
-void BeamLaw::evaluate(const double *h, const Vector3d &xi, const Vector3d &xj, const Quaterniond &qi,
-                       const Quaterniond &qj, BeamResult &out) const
+void BeamLaw::evaluate(const double *h, const Vector3d &xi, const Vector3d &xj, const Rotation &ri,
+                       const Rotation &rj, BeamResult &out, bool report) const
 {
   const double l0 = h[B_L0];
   const Vector3d d = xj - xi;
   const double L = d.norm();
-  const Vector3d e = d / L;
+  const double inv_L = 1.0 / L;
+  const Vector3d e = d * inv_L;
   const Stiffness k = stiffness(l0);
 
   // end rotations relative to the chord
-  const Vector3d ti = qi * load3(h + B_DI), tj = qj * load3(h + B_DJ);
+  const Vector3d ti = ri * load3(h + B_DI), tj = rj * load3(h + B_DJ);
   const Vector3d th_i = rotation_between(e, ti), th_j = rotation_between(e, tj);
-  // twist: carry each end's reference normal back onto the chord's normal plane and compare
-  const Vector3d ni = rotate(qi * load3(h + B_PI), -th_i);
-  const Vector3d nj = rotate(qj * load3(h + B_PJ), -th_j);
-  const double phi = std::atan2(e.dot(ni.cross(nj)), ni.dot(nj));
+  // twist: the ends' reference normals projected on the chord's normal plane
+  Vector3d ni = ri * load3(h + B_PI), nj = rj * load3(h + B_PJ);
+  ni -= e.dot(ni) * e;
+  nj -= e.dot(nj) * e;
+  const double phi = angle(e.dot(ni.cross(nj)), ni.dot(nj));
 
   const Vector3d sum = th_i + th_j, diff = th_i - th_j;
   const Vector3d bend_i = k.bending * diff + k.shear_coupling * sum;
   const Vector3d bend_j = -k.bending * diff + k.shear_coupling * sum;
-  const Vector3d shear_j = (2.0 * k.shear_coupling / L) * sum.cross(e);
+  const Vector3d shear_j = (2.0 * k.shear_coupling * inv_L) * sum.cross(e);
   const double axial = k.axial * (L - l0);
 
   out.force_i = axial * e - shear_j;
   out.torque_i = -bend_i + (k.twist * phi) * e;
   out.torque_j = -bend_j - (k.twist * phi) * e;
   out.axial = axial;
+  if (!report) return;
   out.shear = shear_j.norm();
   out.moment = std::max(bend_i.norm(), bend_j.norm());
   out.energy = 0.5 * (axial * (L - l0) + k.bending * diff.squaredNorm() +

@@ -51,10 +51,14 @@ class BeamLaw {
   double EI() const { return young_ * inertia_; }
   double GJ() const { return shear_modulus_ * polar_; }
 
+  // Node orientations are rotation matrices (row-major, body to space).
+  using Rotation = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>;
   void init_bond(double *h, const Eigen::Vector3d &xi, const Eigen::Vector3d &xj,
-                 const Eigen::Quaterniond &qi, const Eigen::Quaterniond &qj) const;
+                 const Rotation &ri, const Rotation &rj) const;
+  // With report == false only forces, torques and the axial force are filled (the bond loop);
+  // shear, moment and energy are for output and energy tallies.
   void evaluate(const double *h, const Eigen::Vector3d &xi, const Eigen::Vector3d &xj,
-                const Eigen::Quaterniond &qi, const Eigen::Quaterniond &qj, BeamResult &out) const;
+                const Rotation &ri, const Rotation &rj, BeamResult &out, bool report = true) const;
 
   // Stiffnesses of a bond of initial length l0 (for the time-step estimate).
   struct Stiffness { double axial, bending, shear_coupling, twist; };
@@ -63,6 +67,7 @@ class BeamLaw {
  private:
   BeamLawParams p_;
   double area_, inertia_, polar_, young_, shear_modulus_, twist_fraction_;
+  double EA_, fEI_, ftGJ_, GA_;  // stiffness numerators, divided by l0 per bond
 };
 
 }  // namespace WireNet

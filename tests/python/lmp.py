@@ -23,12 +23,20 @@ newton off on
 """
 
 
+_ERROR_LINE = re.compile(r"\bERROR( on proc \d+)?: ")
+
+
+def error_lines(output):
+    """LIGGGHTS' own ERROR lines (not OpenMPI's abort chatter such as ORTE_ERROR_LOG)."""
+    return [l for l in output.splitlines() if _ERROR_LINE.search(l)]
+
+
 class LiggghtsError(RuntimeError):
     """A deck failed; .output holds stdout+stderr, .error the first ERROR line."""
 
     def __init__(self, output):
         self.output = output
-        errors = [l for l in output.splitlines() if "ERROR" in l]
+        errors = error_lines(output)
         self.error = errors[0] if errors else output.strip().splitlines()[-1:] or [""]
         super().__init__(self.error if isinstance(self.error, str) else str(self.error))
 

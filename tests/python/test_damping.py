@@ -188,5 +188,5 @@ def test_bad_alpha_is_named(tmp_path, alpha, message):
     lmp.write_data(tmp_path / "free.data", [(1, 1, 0.0, 0.0, 0.0, D, RHO, 1)], [])
     deck = lmp.PREAMBLE + f"read_data free.data\nfix damp all wirenet/damping {alpha}\n"
     out = lmp.run_deck(deck, tmp_path, check=False)
-    errors = [l for l in out.splitlines() if "ERROR" in l]
+    errors = lmp.error_lines(out)
     assert errors and message in errors[0], out[-1500:]

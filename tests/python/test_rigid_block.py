@@ -377,5 +377,5 @@ def test_restart_continues_the_motion(tmp_path, stl):
 def test_bad_arguments_are_named(tmp_path, stl, args, message):
     deck = base_deck(stl) + f"fix rb all wirenet/rigidmesh {args}\n"
     out = lmp.run_deck(deck, tmp_path, check=False)
-    errors = [l for l in out.splitlines() if "ERROR" in l]
+    errors = lmp.error_lines(out)
     assert errors and message in errors[0], out[-1500:]

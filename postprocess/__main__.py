@@ -1,4 +1,4 @@
-"""Command line: ``/usr/bin/python3 -m postprocess {zone,vtu,data2vtu,plot,report,study} ...``.
+"""Command line: ``/usr/bin/python3 -m postprocess {zone,vtu,data2vtu,plot,report,study,calibrate} ...``.
 
 Every user error is printed as one line ``postprocess CMD: error: MESSAGE`` (the message names
 the file and line where there is one) and the exit code is 2; outputs are written to temporary
@@ -167,10 +167,30 @@ def _add_study(sub):
     p.set_defaults(run="study")
 
 
+def _add_calibrate(sub):
+    p = sub.add_parser(
+        "calibrate", formatter_class=_formatter,
+        help="best bending fraction for a measured force-displacement curve",
+        description="Interpolates the platter.csv curves of the calibration cases in "
+                    "log10(fraction + 1e-3) and finds the fraction (continuous, between the "
+                    "smallest and the largest simulated one) that minimises the RMSE against "
+                    "the measured curve. Writes PREFIX.json, PREFIX.png and PREFIX.svg.")
+    p.add_argument("measured", metavar="MEASURED.csv",
+                   help="measured curve with a displacement [m] and a force [N] column")
+    p.add_argument("--cases", nargs="+", required=True, metavar="DIR",
+                   help="calibration case folders (platter.csv + case.json 'bending')")
+    p.add_argument("--out", "-o", default="calibration_fit", metavar="PREFIX",
+                   help="output prefix")
+    p.add_argument("--displacement-column", default="displacement")
+    p.add_argument("--force-column", default="force")
+    p.set_defaults(run="calibrate")
+
+
 def build_parser():
     parser = argparse.ArgumentParser(prog="postprocess", description=DESCRIPTION)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
-    for add in (_add_zone, _add_vtu, _add_data2vtu, _add_plot, _add_report, _add_study):
+    for add in (_add_zone, _add_vtu, _add_data2vtu, _add_plot, _add_report, _add_study,
+                _add_calibrate):
         add(sub)
     return parser
 
@@ -194,6 +214,9 @@ def _dispatch(args):
     elif args.run == "report":
         from . import report
         report.run(args)
+    elif args.run == "calibrate":
+        from . import calibrate
+        calibrate.run(args)
 
 
 def main(argv=None):

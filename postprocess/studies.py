@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import liggghts, report
+from . import liggghts, punch, report
 from .output import write_text
 
 # ---------------------------------------------------------------------------------------------
@@ -85,22 +85,44 @@ def run_beam_case(case_dir, quick=False, np_=1):
 
 # ---------------------------------------------------------------------------------------------
 
+# Quasi-static punch cases (postprocess/punch.py, inputs/punch.in): cone on the square mesh for
+# the bending calibration, semi-spheroid on the hexagonal and the compound panel.
+
+def calibration_runner(fraction):
+    def run_calibration_case(case_dir, quick=False, np_=1):
+        return punch.run_case(case_dir, "square", "cone", bending=fraction, quick=quick, np_=np_)
+    return run_calibration_case
+
+
+def punch_runner(panel):
+    def run_punch_case(case_dir, quick=False, np_=1):
+        return punch.run_case(case_dir, panel, "spheroid", bending=0.05, quick=quick, np_=np_)
+    return run_punch_case
+
+
 PENDING = {
-    "calibration": "the cone punch on the square mesh (issue 6: punch tests)",
-    "punch": "the semi-spheroid punch tests (issue 6: punch tests)",
     "impact": "the block impact tests (issue 7: impact tests)",
+    "punch": "a stable contact of the 3.9 g hexagonal-mesh nodes with the semi-spheroid platter "
+             "(issue 6, open: the deck runs, see doc/punch.md 'Open problems', but the first "
+             "contacts blow up; punch.run_case(dir, 'hex', 'spheroid') runs it by hand)",
 }
 CALIBRATION_FRACTIONS = (0.0, 0.01, 0.05, 0.25, 1.0)
 
 CASES = {"beam": ("beam", run_beam_case)}
 for f in CALIBRATION_FRACTIONS:
-    CASES[f"calibration_{f:g}"] = ("calibration", None)
-for name in ("punch_hex", "punch_compound"):
+    CASES[f"calibration_{f:g}"] = ("calibration", calibration_runner(f))
+# punch_runner("hex") / punch_runner("compound") run, but their results are not trustworthy yet
+# (doc/punch.md, Open problems): listed as not implemented rather than reported.
+for name, panel in (("punch_hex", "hex"), ("punch_compound", "compound")):
     CASES[name] = ("punch", None)
 for name in ("impact_hex", "impact_square", "impact_compound"):
     CASES[name] = ("impact", None)
 
-STUDIES = {"compound": list(CASES)}
+STUDIES = {"compound": list(CASES),
+           "calibration": [n for n in CASES if n.startswith("calibration_")],
+           "punch": [n for n in CASES if CASES[n][0] in ("calibration", "punch")]}
+# ./wirenet run calibration: the five cone punches; ./wirenet run punch: those and the two
+# semi-spheroid punches (listed as not implemented until their contact is stable)
 CSV_OF_KIND = {"beam": "beam.csv", "calibration": "platter.csv", "punch": "platter.csv",
                "impact": "block.csv"}
 

@@ -1,0 +1,425 @@
+"""Quasi-static punch cases (paper, sections 3-4): the cone punch on the strand-rope square mesh
+for the bending-stiffness calibration and the semi-spheroid punch on the hexagonal and the
+compound panel. Deck: inputs/punch.in.
+
+Loading rate and mass scaling
+-----------------------------
+Every law of the model is rate-independent (elastic-plastic wires, elastic beams, linear
+contacts without viscous damping, Coulomb friction, Cundall local damping), so only inertia
+separates a run from the static answer. Scaling every node mass by S and dividing gravity by S
+leaves the weight unchanged and stretches every period by sqrt(S); the stable time step grows by
+sqrt(S) as well. A run at speed v with masses S m is therefore the same computation, step by
+step, as a run at v sqrt(S) with the true masses: the number of steps per metre of travel is
+what buys quasi-statics. The platter moves at the paper's 1 cm/s (so `time` in platter.csv is
+the test's time) and S is chosen to give the number of steps per metre that the evidence below
+requires; `equivalent_speed` in case.json is v sqrt(S), the speed with the true masses.
+
+Evidence, computed for every case and written to case.json:
+- the same case is run four times slower (speed / 4, same masses and step): the largest
+  difference of the two force-displacement curves, relative to the peak force, up to the first
+  rupture (`curve_difference`);
+- the kinetic energy of the net stays below a fraction of the work done by the platter
+  (`kinetic_energy_fraction`, the largest ratio KE / W over the output steps once W > 1 % of
+  its final value, up to the first rupture);
+- equilibrium: at every output step the platter force plus the panel's weight equals the sum of
+  the z reactions of the edge supports (`equilibrium_error`: the largest gap relative to the
+  peak reaction; `equilibrium_error_of_current`: relative to the reaction of the same step, on
+  the steps where the force is at least 10 % of its peak; in the first millimetres any finite
+  speed leaves a gap that is large compared with the tiny static force of a slack panel).
+"""
+
+import json
+import math
+import os
+import threading
+import time
+
+import numpy as np
+
+from . import liggghts, zone
+from .csvio import read_csv, write_csv
+from .datafile import read_data
+from .errors import PostprocessError
+from .meta import PanelInfo, read_json
+
+# SW stress-strain table (strain, Pa), shared/reference/wire_law_traces/README.md
+SW_CURVE = ((0.0019230769, 2.5e8), (0.0192, 3.2195e8), (0.05, 3.8292e8), (0.15, 5.1219e8),
+            (0.25, 5.5854e8), (0.30, 5.6585e8), (0.35, 5.6585e8))
+WIRE = dict(wire_d=0.0027, selvedge_d=0.0034, lambda_eps=0.4, lambda_k=0.66, wire_nu=0.3)
+ROPE = dict(rope_d=0.01, rope_E=6e10, rope_nu=0.3, shear="eb")
+CONTACT = dict(kn=1e9, ks=1e8, mu=0.2)
+PLATTERS = {"cone": dict(radius=0.34, height=0.78), "spheroid": dict(radius=0.5, height=0.15)}
+ALPHA = 0.7          # local damping for the quasi-static runs (PFC's default for static runs)
+PAPER_SPEED = 0.01   # m/s
+SLOW_FACTOR = 4
+TOLERANCE = 0.01     # 1 %: curve agreement, kinetic energy fraction, equilibrium
+
+
+def _panel_options(kind, quick):
+    """wirenet-gen options of the panel; quick = a small panel that still holds the platter."""
+    if not quick:
+        return [kind]
+    if kind == "square":       # 4 x 4 cells of 0.3 m: a rope crossing at the panel centre
+        return ["square", "--width", 1.2, "--height", 1.2]
+    if kind == "hex":
+        return ["hex", "--width", 1.2, "--height", 1.2]
+    return ["compound", "--width", 1.2, "--height", 1.2]
+
+
+# ---------------------------------------------------------------------------------------------
+# set-up
+
+def node_masses(data):
+    d = data.atoms[:, 5]
+    return data.atoms[:, 6] * math.pi * d ** 3 / 6.0
+
+
+def stable_dt(data, bending, layers, platter=True):
+    """Stable step with the true masses: bonds (as bond_style wirenet estimates it: two-node
+    frequencies doubled for neighbours in antiphase) plus the stiffest contact on the lightest
+    node, combined as omega^2 = omega_bond^2 + omega_contact^2."""
+    ids = data.atoms[:, 0].astype(int)
+    index = {i: k for k, i in enumerate(ids)}
+    mass = node_masses(data)
+    radius = data.atoms[:, 5] / 2
+    pos = data.atoms[:, 2:5]
+    w2 = 0.0
+    eps1, sig1 = SW_CURVE[0]
+    rope_r = ROPE["rope_d"] / 2
+    area = math.pi * rope_r ** 2
+    inertia = math.pi * rope_r ** 4 / 4
+    shear_mod = ROPE["rope_E"] / (2 * (1 + ROPE["rope_nu"]))
+    for _, btype, a1, a2 in data.bonds.astype(int):
+        i, j = index[a1], index[a2]
+        l0 = float(np.linalg.norm(pos[i] - pos[j]))
+        inv_m = 1 / mass[i] + 1 / mass[j]
+        if btype in (1, 2, 3):
+            d = WIRE["selvedge_d"] if btype == 3 else WIRE["wire_d"]
+            k = sig1 * math.pi * d * d / 4 / (eps1 * l0)
+            w2 = max(w2, 2 * (2 * k if btype == 1 else k) * inv_m)
+        else:
+            kax = ROPE["rope_E"] * area / l0
+            kb = bending * ROPE["rope_E"] * inertia / l0
+            kt = bending * shear_mod * 2 * inertia / l0
+            kr = 6 * kb + 2 * kt
+            inv_i = 1 / (0.4 * mass[i] * radius[i] ** 2) + 1 / (0.4 * mass[j] * radius[j] ** 2)
+            w2 = max(w2, 2 * max(kax, 12 * kb / l0 ** 2) * inv_m, 2 * kr * inv_i)
+    m_min = float(mass.min())
+    if platter or layers > 1:
+        w2 += (2.0 if layers > 1 else 1.0) * (CONTACT["kn"] + 2.5 * CONTACT["ks"]) / m_min
+    return 2.0 / math.sqrt(w2)
+
+
+def centre_node(data, meta):
+    """The node nearest to the panel centre on the loaded (topmost) layer."""
+    z = data.atoms[:, 4]
+    top = z >= z.max() - 1e-9
+    centre = np.asarray(meta["centre"], float)
+    d = np.hypot(data.atoms[:, 2] - centre[0], data.atoms[:, 3] - centre[1])
+    d[~top] = np.inf
+    k = int(np.argmin(d))
+    return int(data.atoms[k, 0]), float(data.atoms[k, 5] / 2)
+
+
+class Setup:
+    """Everything a punch run needs; .variables(speed, out) gives the deck's -var values."""
+
+    def __init__(self, workdir, panel, platter, bending=0.05, quick=False, steps_per_m=None,
+                 travel=None, stop_broken=0):
+        os.makedirs(workdir, exist_ok=True)
+        self.panel, self.platter, self.bending, self.quick = panel, platter, bending, quick
+        prefix = os.path.join(workdir, "panel")
+        options = _panel_options(panel, quick)
+        self.data_path = liggghts.generate(options[0], prefix, *options[1:])
+        self.json_path = prefix + ".json"
+        shape = PLATTERS[platter]
+        self.stl = os.path.join(workdir, f"{platter}.stl")
+        liggghts.generate(f"shape {platter}", self.stl, "--radius", shape["radius"],
+                          "--height", shape["height"], "--resolution", 48)
+        self.meta = read_json(self.json_path)
+        data = read_data(self.data_path)
+        self.layers = 2 if self.meta.get("kind") == "compound" else 1
+        self.centre_id, self.centre_r = centre_node(data, self.meta)
+        self.dt_true = stable_dt(data, bending, self.layers)
+        dt_pre_true = stable_dt(data, bending, self.layers, platter=False)
+        self.dt_safety = 0.5
+        self.travel = travel or (0.1 if quick else 0.5)
+        # steps per metre of travel: sets the equivalent speed (see the module docstring)
+        self.steps_per_m = steps_per_m or (1e6 if quick else 6.25e5)
+        dt_needed = 1.0 / (PAPER_SPEED * self.steps_per_m)
+        self.mass_scale = (dt_needed / (self.dt_safety * self.dt_true)) ** 2
+        self.dt = dt_needed
+        self.dt_preload = max(self.dt, self.dt_safety * dt_pre_true * math.sqrt(self.mass_scale))
+        self.stop_broken = stop_broken
+        period = self.slow_period()
+        self.relax_steps = int(math.ceil(2.5 * period / self.dt_preload))
+
+    def slow_period(self):
+        """Fundamental period of the pre-loaded panel (a membrane whose tension carries its
+        weight with a sag of 1 cm: N = p L^2 / (8 s)), with the scaled masses."""
+        width = self.meta["panel"]["width"]
+        areal = self.meta["areal_mass"] * self.mass_scale
+        pressure = self.meta["areal_mass"] * 9.81
+        tension = pressure * width ** 2 / (8 * 0.01)
+        c = math.sqrt(tension / areal)
+        return 2 * width / (c * math.sqrt(2))
+
+    @property
+    def equivalent_speed(self):
+        return PAPER_SPEED * math.sqrt(self.mass_scale)
+
+    def variables(self, speed_factor=1.0, every=None):
+        speed = PAPER_SPEED / speed_factor
+        every = every or max(int(round(0.002 / (speed * self.dt))), 1)   # a row per 2 mm
+        half = self.meta["panel"]
+        v = dict(data=os.path.abspath(self.data_path), stl=os.path.abspath(self.stl),
+                 platter_h=PLATTERS[self.platter]["height"], half_w=half["width"] / 2,
+                 half_h=half["height"] / 2, centre_id=self.centre_id, centre_r=self.centre_r,
+                 layers=self.layers, curve=" ".join(f"{e!r} {s!r}" for e, s in SW_CURVE),
+                 bending=self.bending, alpha=ALPHA, mass_scale=repr(self.mass_scale),
+                 dt=repr(self.dt), dt_preload=repr(self.dt_preload), relax_steps=self.relax_steps, speed=repr(speed),
+                 travel=self.travel, every=every, dump_every=every * 5, out=".",
+                 stop_broken=self.stop_broken)
+        v.update(WIRE)
+        v.update(ROPE)
+        v.update(CONTACT)
+        return v, every
+
+    def displacement(self, steps, speed_factor=1.0):
+        """Platter travel after ``steps`` steps (the deck's ramp then constant speed)."""
+        speed = PAPER_SPEED / speed_factor
+        nramp = math.ceil(2 * 0.002 / (speed * self.dt))
+        steps = np.asarray(steps, float)
+        ramp = steps * (steps + 1) / (2 * nramp)
+        const = (nramp + 1) / 2 + steps - nramp
+        return speed * self.dt * np.where(steps <= nramp, ramp, const)
+
+
+# ---------------------------------------------------------------------------------------------
+# runs
+
+def run_pair(setup, case_dir, np_=1):
+    """The case at the chosen rate (case_dir/run) and four times slower (case_dir/slow), side by
+    side (two processes). Returns their folders and wall times."""
+    results, errors = {}, []
+
+    def one(name, factor):
+        workdir = os.path.join(case_dir, name)
+        variables, every = setup.variables(factor)
+        steps = int(math.ceil(setup.travel / (PAPER_SPEED / factor * setup.dt))) + \
+            3 * setup.relax_steps
+        try:
+            wall = liggghts.run(liggghts.INPUTS / "punch.in", workdir, variables, np=np_,
+                                total_steps=steps, label=f"{name}", dt=setup.dt)
+            results[name] = (workdir, wall, factor)
+        except Exception as exc:      # re-raised below, in the caller's thread
+            errors.append(exc)
+
+    threads = [threading.Thread(target=one, args=("run", 1.0)),
+               threading.Thread(target=one, args=("slow", float(SLOW_FACTOR)))]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    if errors:
+        raise errors[0]
+    return results
+
+
+def read_punch(workdir):
+    table = read_csv(os.path.join(workdir, "punch.csv"),
+                     required=("time", "displacement", "force", "reaction", "weight", "ke",
+                               "broken", "step"))
+    return table
+
+
+def read_ruptures(path):
+    """Rows (step, atom1, atom2, type, x, y, z, elongation) of the rupture dump, by step."""
+    if not os.path.isfile(path):
+        return np.zeros((0, 8))
+    with open(path) as fh:
+        lines = fh.read().splitlines()
+    rows = []
+    body = False
+    for line in lines:
+        if line.startswith("ITEM: ENTRIES"):
+            body = True
+            continue
+        if line.startswith("ITEM:"):
+            body = False
+            continue
+        if body and line.strip():
+            rows.append([float(v) for v in line.split()[:8]])
+    rows = np.array(rows, float).reshape(-1, 8)
+    return rows[np.argsort(rows[:, 0], kind="stable")]
+
+
+def work_done(disp, force):
+    """Cumulative work of the platter (trapezoid rule, from 0 at zero travel)."""
+    d = np.r_[0.0, disp]
+    f = np.r_[0.0, force]
+    return np.cumsum(np.r_[0.0, 0.5 * (f[1:] + f[:-1]) * np.diff(d)])[1:]
+
+
+def rupture_limit(table):
+    """Index limit (exclusive) of the rows before the first rupture."""
+    broken = np.asarray(table["broken"])
+    hit = np.nonzero(broken > 0)[0]
+    return int(hit[0]) if hit.size else len(broken)
+
+
+def snap_events(table, upto=None):
+    """Displacement intervals of snap-through events before ``upto`` rows: rows where the
+    platter force drops by more than 1 % of its peak from one output row to the next, or the
+    kinetic energy jumps above ten times its median. At such a limit point the static path
+    itself jumps (a node slips over the platter or off the cone tip); the run crosses it
+    dynamically at any speed. Each event covers two output rows either side."""
+    n = len(table["force"]) if upto is None else upto
+    f, ke, d = table["force"][:n], table["ke"][:n], table["displacement"][:n]
+    if n < 3:
+        return []
+    peak = float(np.max(np.abs(f)))
+    drop = np.r_[False, np.diff(f) < -0.01 * peak]
+    spike = ke > 10 * max(float(np.median(ke)), 1e-300)
+    rows = np.nonzero(drop | spike)[0]
+    intervals = []
+    for k in rows:
+        lo, hi = d[max(k - 2, 0)], d[min(k + 2, n - 1)]
+        if intervals and lo <= intervals[-1][1]:
+            intervals[-1][1] = max(intervals[-1][1], hi)
+        else:
+            intervals.append([float(lo), float(hi)])
+    return intervals
+
+
+def _outside(d, intervals):
+    keep = np.ones(len(d), bool)
+    for lo, hi in intervals:
+        keep &= ~((d >= lo) & (d <= hi))
+    return keep
+
+
+def curve_difference(fast, slow):
+    """Largest |F_fast - F_slow| on the slow run's displacements up to the first rupture of
+    either run, relative to the slow run's peak force there, away from the snap events of
+    either run (``max``) and everywhere (``max_all``); and the RMS difference."""
+    nf, ns = rupture_limit(fast), rupture_limit(slow)
+    d_end = min(fast["displacement"][nf - 1], slow["displacement"][ns - 1])
+    keep = slow["displacement"][:ns] <= d_end + 1e-12
+    d = slow["displacement"][:ns][keep]
+    fs = slow["force"][:ns][keep]
+    ff = np.interp(d, fast["displacement"][:nf], fast["force"][:nf])
+    peak = float(np.max(np.abs(fs)))
+    events = snap_events(fast, nf) + snap_events(slow, ns)
+    calm = _outside(d, events)
+    if not peak > 0:
+        return dict(max=float("nan"), max_all=float("nan"), rms=float("nan"), up_to=float(d_end),
+                    snap_events=events)
+    gap = np.abs(ff - fs) / peak
+    return dict(max=float(np.max(gap[calm])), max_all=float(np.max(gap)),
+                rms=float(np.sqrt(np.mean(gap ** 2))), up_to=float(d_end),
+                snap_events=sorted(events), calm_fraction=float(np.mean(calm)))
+
+
+def kinetic_fraction(table, calm=True):
+    """Largest KE / W over the output rows before the first rupture where W > 1 % of its
+    final value; with calm, away from the snap events."""
+    n = rupture_limit(table)
+    w = work_done(table["displacement"][:n], table["force"][:n])
+    if not n or not w[-1] > 0:
+        return float("nan")
+    use = w > 0.01 * w[-1]
+    if calm:
+        use &= _outside(table["displacement"][:n], snap_events(table, n))
+    return float(np.max(table["ke"][:n][use] / w[use]))
+
+
+def equilibrium_error(table, upto=None, relative_to_current=False, calm=True):
+    """Largest |F + W - R| over the output rows (platter force F, panel weight W, sum of the
+    edge z reactions R), relative to the peak reaction (default) or, with
+    relative_to_current, to the current reaction on the rows where F >= 10 % of its peak;
+    with calm, away from the snap events."""
+    n = len(table["force"]) if upto is None else upto
+    if not n:
+        return float("nan")
+    r = table["reaction"][:n]
+    gap = np.abs(r - table["weight"][:n] - table["force"][:n])
+    use = np.ones(n, bool)
+    if calm:
+        use &= _outside(table["displacement"][:n], snap_events(table, n))
+    if not relative_to_current:
+        return float(np.max(gap[use]) / np.max(np.abs(r)))
+    use &= table["force"][:n] >= 0.1 * np.max(table["force"][:n])
+    return float(np.max(gap[use] / np.abs(r[use])))
+
+
+def first_rupture(setup, workdir, table, families):
+    rows = read_ruptures(os.path.join(workdir, "ruptures.dump"))
+    if not len(rows):
+        return None
+    step, a1, a2, btype = rows[0][:4]
+    d = float(setup.displacement(step))
+    force = float(np.interp(d, np.r_[0.0, table["displacement"]], np.r_[0.0, table["force"]]))
+    return dict(displacement=d, force=force, step=int(step),
+                bond=dict(atom1=int(a1), atom2=int(a2), type=int(btype),
+                          family=families.get(int(btype), f"type{int(btype)}")),
+                position=[float(v) for v in rows[0][4:7]])
+
+
+def write_outputs(setup, case_dir, workdir, table, radius=1.0):
+    """platter.csv and zone_forces.csv of the run in workdir, into case_dir."""
+    write_csv(os.path.join(case_dir, "platter.csv"), ("time", "displacement", "force"),
+              [(0.0, 0.0, 0.0)] + [(float(t), float(d), float(f)) for t, d, f in
+                                   zip(table["time"], table["displacement"], table["force"])])
+    panel = PanelInfo(setup.json_path)
+    times, names, totals, maxima, counts = zone.compute(
+        [os.path.join(workdir, "bonds.dump")], panel, radius, setup.dt)
+    disp = setup.displacement(np.round(times / setup.dt))
+    write_csv(os.path.join(case_dir, "zone_forces.csv"), zone.HEADER,
+              zone.rows(times, disp, names, totals, maxima, counts))
+    return panel.families
+
+
+def preload_facts(workdir):
+    rows = read_csv(os.path.join(workdir, "preload.csv"), required=("edge_offset", "sag"))
+    return dict(iterations=int(len(rows["sag"]) - 1), edge_offset=float(rows["edge_offset"][-1]),
+                centre_sag=float(rows["sag"][-1]), gravity_sag=float(rows["sag"][0]))
+
+
+def run_case(case_dir, panel, platter, bending=0.05, quick=False, np_=1, **setup_options):
+    """One punch case with its quasi-static evidence; returns the facts for case.json."""
+    setup = Setup(os.path.join(case_dir, "setup"), panel, platter, bending, quick,
+                  **setup_options)
+    start = time.time()
+    runs = run_pair(setup, case_dir, np_)
+    run_dir, wall_fast, _ = runs["run"]
+    slow_dir, wall_slow, _ = runs["slow"]
+    fast, slow = read_punch(run_dir), read_punch(slow_dir)
+    families = write_outputs(setup, case_dir, run_dir, fast)
+    diff = curve_difference(fast, slow)
+    ke = kinetic_fraction(fast)
+    n = rupture_limit(fast)
+    eq = equilibrium_error(fast, n)
+    rupture = first_rupture(setup, run_dir, fast, families)
+    facts = dict(
+        panel=panel, platter=platter, bending=bending, platter_shape=PLATTERS[platter],
+        speed=PAPER_SPEED, mass_scale=setup.mass_scale, equivalent_speed=setup.equivalent_speed,
+        dt=setup.dt, dt_preload=setup.dt_preload, relax_steps=setup.relax_steps,
+        steps_per_metre=setup.steps_per_m, damping=ALPHA, travel=setup.travel,
+        reached=float(fast["displacement"][-1]),
+        peak_force=float(np.max(fast["force"])), preload=preload_facts(run_dir),
+        first_rupture=rupture,
+        quasi_static=dict(
+            slow_factor=SLOW_FACTOR, curve_difference=diff["max"],
+            curve_difference_with_snaps=diff["max_all"], curve_difference_rms=diff["rms"],
+            compared_up_to=diff["up_to"], snap_events=diff["snap_events"],
+            kinetic_energy_fraction=ke, kinetic_energy_fraction_slow=kinetic_fraction(slow),
+            kinetic_energy_fraction_with_snaps=kinetic_fraction(fast, calm=False),
+            equilibrium_error=eq, equilibrium_error_slow=equilibrium_error(slow,
+                                                                          rupture_limit(slow)),
+            equilibrium_error_with_snaps=equilibrium_error(fast, n, calm=False),
+            equilibrium_error_after_rupture=equilibrium_error(fast, calm=False),
+            equilibrium_error_of_current=equilibrium_error(fast, n, relative_to_current=True),
+            passed=bool(diff["max"] <= TOLERANCE and ke <= TOLERANCE and eq <= TOLERANCE)),
+        run_wall_time=wall_fast, slow_wall_time=wall_slow, pair_wall_time=time.time() - start)
+    return facts

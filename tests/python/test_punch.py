@@ -1,0 +1,96 @@
+"""Quasi-static punch (inputs/punch.in through postprocess/punch.py) on the quick square panel
+(1.2 m, 4 x 4 cells of strand rope, cone centred on the middle crossing), run once for the
+module:
+
+- equilibrium: at every output step the platter force plus the panel's weight equals the sum of
+  the z reactions of the edge supports within 1 % of the peak reaction, and within 1 % of the
+  current reaction once the force exceeds 10 % of its peak;
+- quasi-statics: the curve agrees with a run four times slower within 1 % of the peak force and
+  the kinetic energy stays below 1 % of the work done by the platter;
+- pre-load: the centre sits 1 cm (+- 0.2 mm) below its generated position before the punch;
+- symmetry: the centred punch on the symmetric panel loads every bond like its images under the
+  mirror x -> -x, y -> -y and the swap x <-> y (within 1 % of the largest tension), and the zone
+  forces carry the rope family only.
+"""
+
+import csv
+import json
+import os
+
+import numpy as np
+import pytest
+
+import lmp
+from postprocess import punch
+from postprocess.datafile import read_data
+
+
+@pytest.fixture(scope="module")
+def case(tmp_path_factory):
+    os.environ.setdefault("WIRENET_BUILD", str(lmp.BUILD))
+    folder = tmp_path_factory.mktemp("punch")
+    facts = punch.run_case(str(folder), "square", "cone", bending=0.05, quick=True)
+    (folder / "case.json").write_text(json.dumps(facts, indent=2))
+    return folder, facts
+
+
+def test_outputs_have_the_contract_headers(case):
+    folder, _ = case
+    assert (folder / "platter.csv").read_text().splitlines()[0] == "time,displacement,force"
+    assert (folder / "zone_forces.csv").read_text().splitlines()[0] == \
+        "time,displacement,family,total_tension,max_tension,bonds"
+
+
+def test_equilibrium_platter_force_balances_the_edge_reactions(case):
+    folder, facts = case
+    table = punch.read_punch(str(folder / "run"))
+    assert len(table["force"]) > 20
+    assert facts["quasi_static"]["equilibrium_error"] < 0.01
+    assert facts["quasi_static"]["equilibrium_error_of_current"] < 0.01
+    # the reaction carries the weight of the whole panel (4.8 kg) on top of the platter force
+    assert table["weight"][0] == pytest.approx(4.8 * 9.81, rel=1e-6)
+    assert table["force"].max() > 1e4
+
+
+def test_quasi_static_evidence(case):
+    _, facts = case
+    qs = facts["quasi_static"]
+    assert qs["slow_factor"] == 4
+    assert qs["curve_difference"] < 0.01
+    assert qs["kinetic_energy_fraction"] < 0.01
+    assert qs["compared_up_to"] > 0.09
+
+
+def test_preload_moves_the_centre_by_one_centimetre(case):
+    _, facts = case
+    assert facts["preload"]["centre_sag"] == pytest.approx(0.01, abs=2e-4)
+
+
+def test_centred_punch_is_symmetric(case):
+    folder, _ = case
+    data = read_data(str(folder / "setup" / "panel.data"))
+    xy = {int(a[0]): a[2:4] for a in data.atoms}
+    ref = {}
+    for _, _, a1, a2 in data.bonds.astype(int):
+        m = 0.5 * (xy[a1] + xy[a2])
+        ref[tuple(np.round(m, 6))] = (min(a1, a2), max(a1, a2))
+    # last frame of the bond dump: tension per atom pair
+    lines = (folder / "run" / "bonds.dump").read_text().splitlines()
+    start = max(i for i, l in enumerate(lines) if l.startswith("ITEM: ENTRIES"))
+    names = lines[start].split()[2:]
+    rows = np.array([[float(v) for v in l.split()] for l in lines[start + 1:] if l.strip()])
+    col = {n: k for k, n in enumerate(names)}
+    tension = {(int(min(r[col["c_bonds[1]"]], r[col["c_bonds[2]"]])),
+                int(max(r[col["c_bonds[1]"]], r[col["c_bonds[2]"]]))): r[col["c_bonds[6]"]]
+               for r in rows}
+    tmax = max(abs(t) for t in tension.values())
+    assert tmax > 1e3
+    worst = 0.0
+    for (mx, my), pair in ref.items():
+        for image in ((-mx, my), (mx, -my), (my, mx)):
+            other = ref[tuple(np.round(image, 6))]
+            worst = max(worst, abs(tension[pair] - tension[other]) / tmax)
+    assert worst < 0.01
+    with open(folder / "zone_forces.csv") as fh:
+        fams = {row["family"] for row in csv.DictReader(fh) if float(row["total_tension"]) > 0}
+    assert fams == {"rope"}

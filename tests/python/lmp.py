@@ -97,45 +97,34 @@ def thermo_rows(output):
     return rows
 
 
-def dump_local_frames(path):
-    """Frames of a `dump local` file: {step: 2-d numpy array of the entries}."""
+def _dump_frames(path):
+    """(step, column names, 2-d array of the rows) for every frame of a LIGGGHTS dump file."""
     import numpy as np
-    frames = {}
     lines = Path(path).read_text().splitlines()
     k = 0
     while k < len(lines):
-        if lines[k].startswith("ITEM: TIMESTEP"):
-            step = int(lines[k + 1])
-            n = int(lines[k + 3])
-            # TIMESTEP, step, NUMBER, n, BOX BOUNDS + 3 lines, ENTRIES header
-            start = k + 9
-            rows = [[float(w) for w in l.split()] for l in lines[start:start + n]]
-            frames[step] = np.array(rows, dtype=float).reshape(n, -1) if n else np.zeros((0, 0))
-            k = start + n
-        else:
+        if not lines[k].startswith("ITEM: TIMESTEP"):
             k += 1
-    return frames
+            continue
+        # TIMESTEP, step, NUMBER, n, BOX BOUNDS + 3 lines, then the ENTRIES/ATOMS header
+        step, n = int(lines[k + 1]), int(lines[k + 3])
+        cols = lines[k + 8].split()[2:]
+        start = k + 9
+        rows = [[float(w) for w in l.split()] for l in lines[start:start + n]]
+        yield step, cols, np.array(rows, dtype=float).reshape(n, -1) if n else np.zeros((0, 0))
+        k = start + n
+
+
+def dump_local_frames(path):
+    """Frames of a `dump local` file: {step: 2-d numpy array of the entries}."""
+    return {step: rows for step, _, rows in _dump_frames(path)}
 
 
 def dump_atom_frames(path):
     """Frames of a `dump custom` file: {step: (column names, 2-d numpy array sorted by column 1)}."""
     import numpy as np
-    frames = {}
-    lines = Path(path).read_text().splitlines()
-    k = 0
-    while k < len(lines):
-        if lines[k].startswith("ITEM: TIMESTEP"):
-            step = int(lines[k + 1])
-            n = int(lines[k + 3])
-            cols = lines[k + 8].split()[2:]
-            start = k + 9
-            a = np.array([[float(w) for w in l.split()] for l in lines[start:start + n]], dtype=float)
-            a = a.reshape(n, len(cols))
-            frames[step] = (cols, a[np.argsort(a[:, 0])])
-            k = start + n
-        else:
-            k += 1
-    return frames
+    return {step: (cols, rows.reshape(len(rows), len(cols))[np.argsort(rows[:, 0])])
+            for step, cols, rows in _dump_frames(path)}
 
 
 def sort_rows(a, keys=(0, 1)):

@@ -208,8 +208,7 @@ inline void BondWirenet::compute_beam(const Entry &e, int eflag)
 {
   double **x = atom->x;
   BeamResult out;
-  beams[e.type]->evaluate(e.h, Eigen::Vector3d(x[e.i]), Eigen::Vector3d(x[e.j]),
-                          BeamLaw::Rotation(history->rotation(e.i)), BeamLaw::Rotation(history->rotation(e.j)), out,
+  beams[e.type]->evaluate(e.h, x[e.i], x[e.j], history->rotation(e.i), history->rotation(e.j), out,
                           eflag != 0);
   double **f = atom->f, **t = atom->torque;
   for (int d = 0; d < 3; d++) {
@@ -301,8 +300,7 @@ bool BondWirenet::bond_state(int i, int m, int j, BondState &s) const
     s.shear = s.moment = 0.0;
   } else {
     BeamResult out;
-    beams[type]->evaluate(h, Eigen::Vector3d(x[i]), Eigen::Vector3d(x[j]), BeamLaw::Rotation(history->rotation(i)),
-                          BeamLaw::Rotation(history->rotation(j)), out);
+    beams[type]->evaluate(h, x[i], x[j], history->rotation(i), history->rotation(j), out);
     s.tension = out.axial;
     s.shear = out.shear;
     s.moment = out.moment;

@@ -38,18 +38,6 @@ void require(bool ok, const std::string &what, double got)
 const double SMALL_SIN2 = 0.05 * 0.05;
 const double SMALL_TAN = 0.05;
 
-// Rotation vector of the smallest rotation taking unit vector a onto unit vector b.
-__attribute__((always_inline)) inline Vector3d rotation_between(const Vector3d &a, const Vector3d &b)
-{
-  const Vector3d c = a.cross(b);
-  const double s2 = c.squaredNorm(), co = a.dot(b);
-  if (co > 0.0 && s2 < SMALL_SIN2)  // angle / sin(angle) = asin(s) / s
-    return c * (1.0 + s2 * (1.0 / 6 + s2 * (3.0 / 40 + s2 * (5.0 / 112 + s2 * (35.0 / 1152)))));
-  const double s = std::sqrt(s2);
-  if (s < 1e-300) return Vector3d::Zero();
-  return c * (std::atan2(s, co) / s);
-}
-
 // atan2(y, x), by its series when the angle is small
 __attribute__((always_inline)) inline double angle(double y, double x)
 {
@@ -60,7 +48,6 @@ __attribute__((always_inline)) inline double angle(double y, double x)
   return std::atan2(y, x);
 }
 
-inline Vector3d load3(const double *h) { return Vector3d(h[0], h[1], h[2]); }
 inline void store3(double *h, const Vector3d &v) { h[0] = v[0]; h[1] = v[1]; h[2] = v[2]; }
 
 }  // namespace
@@ -113,40 +100,76 @@ void BeamLaw::init_bond(double *h, const Vector3d &xi, const Vector3d &xj, const
   store3(h + B_PJ, rj.transpose() * n);
 }
 
-void BeamLaw::evaluate(const double *h, const Vector3d &xi, const Vector3d &xj, const Rotation &ri,
-                       const Rotation &rj, BeamResult &out, bool report) const
+namespace {
+
+struct V3 { double x, y, z; };
+__attribute__((always_inline)) inline V3 mul(const double *r, const double *v)
+{
+  return { r[0] * v[0] + r[1] * v[1] + r[2] * v[2], r[3] * v[0] + r[4] * v[1] + r[5] * v[2],
+           r[6] * v[0] + r[7] * v[1] + r[8] * v[2] };
+}
+__attribute__((always_inline)) inline V3 cross(const V3 &a, const V3 &b)
+{
+  return { a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x };
+}
+__attribute__((always_inline)) inline double dot(const V3 &a, const V3 &b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+__attribute__((always_inline)) inline V3 axpy(double a, const V3 &x, const V3 &y)
+{
+  return { a * x.x + y.x, a * x.y + y.y, a * x.z + y.z };
+}
+// Rotation vector of the smallest rotation taking unit vector a onto unit vector b:
+// angle / sin(angle) = asin(s) / s by its series at small angles, atan2 otherwise.
+__attribute__((always_inline)) inline V3 bend(const V3 &a, const V3 &b)
+{
+  const V3 c = cross(a, b);
+  const double s2 = dot(c, c), co = dot(a, b);
+  double f;
+  if (co > 0.0 && s2 < SMALL_SIN2) {
+    f = 1.0 + s2 * (1.0 / 6 + s2 * (3.0 / 40 + s2 * (5.0 / 112 + s2 * (35.0 / 1152))));
+  } else {
+    const double s = std::sqrt(s2);
+    f = s < 1e-300 ? 0.0 : std::atan2(s, co) / s;
+  }
+  return { f * c.x, f * c.y, f * c.z };
+}
+
+}  // namespace
+
+void BeamLaw::evaluate(const double *h, const double *xi, const double *xj, const double *ri,
+                       const double *rj, BeamResult &out, bool report) const
 {
   const double l0 = h[B_L0];
-  const Vector3d d = xj - xi;
-  const double L = d.norm();
-  const double inv_L = 1.0 / L;
-  const Vector3d e = d * inv_L;
-  const Stiffness k = stiffness(l0);
+  const V3 d = { xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2] };
+  const double L = std::sqrt(dot(d, d)), inv_L = 1.0 / L;
+  const V3 e = { d.x * inv_L, d.y * inv_L, d.z * inv_L };
+  const double inv_l0 = 1.0 / l0;
+  const double ka = EA_ * inv_l0, kb = fEI_ * inv_l0, kt = ftGJ_ * inv_l0;
+  const double cs = p_.shear == ShearModel::EULER_BERNOULLI ? 3.0 * kb : 0.25 * GA_ * l0;
 
   // end rotations relative to the chord
-  const Vector3d ti = ri * load3(h + B_DI), tj = rj * load3(h + B_DJ);
-  const Vector3d th_i = rotation_between(e, ti), th_j = rotation_between(e, tj);
+  const V3 th_i = bend(e, mul(ri, h + B_DI)), th_j = bend(e, mul(rj, h + B_DJ));
   // twist: the ends' reference normals projected on the chord's normal plane
-  Vector3d ni = ri * load3(h + B_PI), nj = rj * load3(h + B_PJ);
-  ni -= e.dot(ni) * e;
-  nj -= e.dot(nj) * e;
-  const double phi = angle(e.dot(ni.cross(nj)), ni.dot(nj));
+  V3 ni = mul(ri, h + B_PI), nj = mul(rj, h + B_PJ);
+  ni = axpy(-dot(e, ni), e, ni);
+  nj = axpy(-dot(e, nj), e, nj);
+  const double phi = angle(dot(e, cross(ni, nj)), dot(ni, nj));
 
-  const Vector3d sum = th_i + th_j, diff = th_i - th_j;
-  const Vector3d bend_i = k.bending * diff + k.shear_coupling * sum;
-  const Vector3d bend_j = -k.bending * diff + k.shear_coupling * sum;
-  const Vector3d shear_j = (2.0 * k.shear_coupling * inv_L) * sum.cross(e);
-  const double axial = k.axial * (L - l0);
+  const V3 sum = { th_i.x + th_j.x, th_i.y + th_j.y, th_i.z + th_j.z };
+  const V3 diff = { th_i.x - th_j.x, th_i.y - th_j.y, th_i.z - th_j.z };
+  const V3 bend_i = { kb * diff.x + cs * sum.x, kb * diff.y + cs * sum.y, kb * diff.z + cs * sum.z };
+  const V3 bend_j = { cs * sum.x - kb * diff.x, cs * sum.y - kb * diff.y, cs * sum.z - kb * diff.z };
+  const V3 sc = cross(sum, e);
+  const double fs = 2.0 * cs * inv_L;
+  const double axial = ka * (L - l0), tw = kt * phi;
 
-  out.force_i = axial * e - shear_j;
-  out.torque_i = -bend_i + (k.twist * phi) * e;
-  out.torque_j = -bend_j - (k.twist * phi) * e;
+  out.force_i = Eigen::Vector3d(axial * e.x - fs * sc.x, axial * e.y - fs * sc.y, axial * e.z - fs * sc.z);
+  out.torque_i = Eigen::Vector3d(tw * e.x - bend_i.x, tw * e.y - bend_i.y, tw * e.z - bend_i.z);
+  out.torque_j = Eigen::Vector3d(-tw * e.x - bend_j.x, -tw * e.y - bend_j.y, -tw * e.z - bend_j.z);
   out.axial = axial;
   if (!report) return;
-  out.shear = shear_j.norm();
-  out.moment = std::max(bend_i.norm(), bend_j.norm());
-  out.energy = 0.5 * (axial * (L - l0) + k.bending * diff.squaredNorm() +
-                      k.shear_coupling * sum.squaredNorm() + k.twist * phi * phi);
+  out.shear = fs * std::sqrt(dot(sc, sc));
+  out.moment = std::sqrt(std::max(dot(bend_i, bend_i), dot(bend_j, bend_j)));
+  out.energy = 0.5 * (axial * (L - l0) + kb * dot(diff, diff) + cs * dot(sum, sum) + kt * phi * phi);
 }
 
 }  // namespace WireNet

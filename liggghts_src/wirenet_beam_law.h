@@ -57,8 +57,10 @@ class BeamLaw {
                  const Rotation &ri, const Rotation &rj) const;
   // With report == false only forces, torques and the axial force are filled (the bond loop);
   // shear, moment and energy are for output and energy tallies.
-  void evaluate(const double *h, const Eigen::Vector3d &xi, const Eigen::Vector3d &xj,
-                const Rotation &ri, const Rotation &rj, BeamResult &out, bool report = true) const;
+  // Raw pointers: positions (3) and row-major rotation matrices (9) straight from the atom and
+  // history arrays; the kernel is written out in scalars (the bond loop's hot spot).
+  void evaluate(const double *h, const double *xi, const double *xj, const double *ri,
+                const double *rj, BeamResult &out, bool report = true) const;
 
   // Stiffnesses of a bond of initial length l0 (for the time-step estimate).
   struct Stiffness { double axial, bending, shear_coupling, twist; };

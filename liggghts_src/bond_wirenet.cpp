@@ -288,7 +288,7 @@ void BondWirenet::report_timestep()
 
 bool BondWirenet::bond_state(int i, int m, int j, BondState &s) const
 {
-  const double *h = history ? const_cast<FixWirenetBonds *>(history)->record(i, m) : NULL;
+  const double *h = history ? static_cast<const FixWirenetBonds *>(history)->record(i, m) : NULL;
   const int type = atom->bond_type[i][m];
   if (!h || type <= 0 || h[FixWirenetBonds::L0] <= 0.0) return false;
   double **x = atom->x;

@@ -176,36 +176,25 @@ void FixWirenetBonds::restart(char *buf)
 
 /* ------------------------------------------------------------------------------------------- */
 
+// The rupture record goes straight into the local array that dump local reads: one row appended,
+// storage doubled when full (ruptures come in bursts when a net tears).
 void FixWirenetBonds::break_bond(int i, int m, const double *mid, double elongation)
 {
   hist[i][m * NHIST + L0] = -1.0;
   nbroken_pending++;
-  Rupture r;
-  r.step = update->ntimestep;
-  r.tag1 = atom->tag[i];
-  r.tag2 = atom->bond_atom[i][m];
-  r.type = atom->bond_type[i][m];
-  r.x[0] = mid[0]; r.x[1] = mid[1]; r.x[2] = mid[2];
-  r.elongation = elongation;
-  ruptures.push_back(r);
-  refresh_local_array();
-}
-
-void FixWirenetBonds::refresh_local_array()
-{
-  const int n = (int)ruptures.size();
-  if (n > maxlocal) {
-    maxlocal = n + 64;
-    memory->destroy(array_local);
-    memory->create(array_local, maxlocal, RUPTURE_COLS, "wirenet/bonds:ruptures");
+  const int n = size_local_rows;
+  if (n == maxlocal) {
+    maxlocal = maxlocal ? 2 * maxlocal : 64;
+    memory->grow(array_local, maxlocal, RUPTURE_COLS, "wirenet/bonds:ruptures");
   }
-  for (int k = 0; k < n; k++) {
-    const Rupture &r = ruptures[k];
-    double *row = array_local[k];
-    row[0] = r.step; row[1] = r.tag1; row[2] = r.tag2; row[3] = r.type;
-    row[4] = r.x[0]; row[5] = r.x[1]; row[6] = r.x[2]; row[7] = r.elongation;
-  }
-  size_local_rows = n;
+  double *row = array_local[n];
+  row[0] = update->ntimestep;
+  row[1] = atom->tag[i];
+  row[2] = atom->bond_atom[i][m];
+  row[3] = atom->bond_type[i][m];
+  row[4] = mid[0]; row[5] = mid[1]; row[6] = mid[2];
+  row[7] = elongation;
+  size_local_rows = n + 1;
 }
 
 // Remove flagged bonds from the owning atoms, keeping bond slots and history records aligned.
@@ -289,7 +278,19 @@ double FixWirenetBonds::extend_cut_ghost()
 
 double FixWirenetBonds::max_bond_length_global()
 {
-  // Gather every atom's position once: bonds may span ranks before any ghost exists.
+  // Once every bond is initialised its record holds the initial length: no gather needed.
+  double local[2] = { 0.0, 0.0 };  // { longest initial length, 1 if a bond is uninitialised }
+  for (int i = 0; i < atom->nlocal; i++)
+    for (int m = 0; m < atom->num_bond[i]; m++) {
+      const double l0 = hist[i][m * NHIST + L0];
+      if (l0 == 0.0) local[1] = 1.0;             // not initialised yet
+      else if (l0 > 0.0) local[0] = fmax(local[0], l0);  // l0 < 0: broken, awaiting removal
+    }
+  double global[2];
+  MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, world);
+  if (global[1] == 0.0) return global[0];
+
+  // Otherwise gather every atom's position once: bonds may span ranks before any ghost exists.
   const int nlocal = atom->nlocal;
   std::vector<double> mine(4 * nlocal);
   for (int i = 0; i < nlocal; i++) {

@@ -53,6 +53,7 @@ class FixWirenetBonds : public Fix {
 
   // --- interface for bond_style wirenet ---
   double *record(int i, int m) { return hist[i] + m * NHIST; }
+  const double *record(int i, int m) const { return hist[i] + m * NHIST; }
   // rotation matrix (row-major) of node i's orientation, local and ghost atoms, current step
   const double *rotation(int i) const { return rot[i]; }
   // bumped whenever local atom indices or bond slots may have changed
@@ -61,7 +62,8 @@ class FixWirenetBonds : public Fix {
   void set_ghost_extent(double cut) { ghost_extent = cut; }
   // flag the bond (i, slot m) as broken; it leaves the atom's bond list at the next exchange
   void break_bond(int i, int m, const double *mid, double elongation);
-  // largest current length of any bond (collective; before ghosts exist, by gathering positions)
+  // longest bond (collective): the largest initial length once every bond is initialised,
+  // else the largest current length, found by gathering positions (no ghosts exist yet)
   double max_bond_length_global();
 
  private:
@@ -75,15 +77,12 @@ class FixWirenetBonds : public Fix {
   bigint nbroken_total;  // all ranks, since the bonds were created (restarted)
   int nbroken_pending;   // flagged on this rank, not yet removed from the bond lists
 
-  struct Rupture { bigint step; int tag1, tag2, type; double x[3], elongation; };
-  std::vector<Rupture> ruptures;  // this rank's ruptures, for dump local
-  int maxlocal;
+  int maxlocal;  // rows allocated in array_local (this rank's ruptures, for dump local)
 
   void reset_atom(int);
   void refresh_rotations();
   void remove_broken_bonds(bool scan_all);
   void check_partners_present();
-  void refresh_local_array();
 };
 
 }

@@ -39,6 +39,15 @@ thermo {EVERY}
 """
 
 
+
+# broken-bond count and intact bonds of the three-node chain, every thermo step
+CHAIN_MONITOR = """compute bl all wirenet/local
+compute nbonds all reduce sum c_bl[3]
+variable nb equal f_wirenet_bonds
+variable intact equal c_nbonds
+thermo_style custom step v_nb v_intact
+"""
+
 def first_part(n):
     return netdeck.setup(SPEED, 0.0, DT) + f"thermo {EVERY}\nrun 0\n" + netdeck.outputs(EVERY) + f"run {n}\n"
 
@@ -148,12 +157,7 @@ bond_style wirenet
 bond_coeff 1 wire diameter 0.0027 curve {netdeck.SW_CURVE}
 group end id 3
 fix pull end move linear 20 0 0
-compute bl all wirenet/local
-compute nbonds all reduce sum c_bl[3]
-variable nb equal f_wirenet_bonds
-variable intact equal c_nbonds
-thermo_style custom step v_nb v_intact
-thermo 1
+{CHAIN_MONITOR}thermo 1
 timestep 1e-6
 run 690
 restart 1 chain.restart.*
@@ -168,12 +172,7 @@ run 20
 atom_modify sort 0 0
 timestep 1e-6
 fix pull end move linear 20 0 0
-compute bl all wirenet/local
-compute nbonds all reduce sum c_bl[3]
-variable nb equal f_wirenet_bonds
-variable intact equal c_nbonds
-thermo_style custom step v_nb v_intact
-thermo 100
+{CHAIN_MONITOR}thermo 100
 run 300
 """
     out2 = lmp.run_deck(resume, tmp_path, name="in.second")

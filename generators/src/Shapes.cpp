@@ -47,10 +47,15 @@ MassProperties massProperties(const TriMesh& mesh, double mass) {
 namespace {
 
 // Ring of n vertices of radius r at height z; returns the index of the first one.
+// The vertices sit half a segment off the x axis, so that for n divisible by 4 no facet edge of an
+// apex fan lies in the planes x = 0, y = 0 (or the diagonals for n divisible by 8): net nodes stay
+// exactly in those planes by symmetry, and LIGGGHTS drops the contact of a sphere whose centre
+// projects exactly onto an edge between two nearly coplanar facets (the edge is inactive for
+// both, and neither face claims the point) until the overlap is large.
 int addRing(TriMesh& m, double r, double z, int n) {
     const int first = int(m.vertices.size());
     for (int i = 0; i < n; ++i) {
-        const double phi = 2 * M_PI * i / n;
+        const double phi = 2 * M_PI * (i + 0.5) / n;
         m.vertices.emplace_back(r * std::cos(phi), r * std::sin(phi), z);
     }
     return first;
@@ -114,7 +119,12 @@ TriMesh ShapeBuilder::truncatedCube(double side, double cut) {
                 m.vertices.emplace_back(sx * h, sy * h, sz * k);
                 m.faces.push_back({a, a + 1, a + 2});  // corner triangle
             }
-    // Each cube face: the octagon of the vertices in its plane, sorted by angle, as a fan.
+    // Each cube face: the octagon of the vertices in its plane, sorted by angle, cut into six
+    // triangles by diagonals that avoid the face centre (no diagonal joins opposite vertices
+    // i, i+4). A plain fan would put the diagonal 0-4 through the centre, where the panel's
+    // centre node hits the face exactly on an edge between coplanar facets: LIGGGHTS drops
+    // such a contact (see addRing).
+    static const int kOctagon[6][3] = {{0, 1, 2}, {0, 2, 3}, {3, 4, 5}, {0, 3, 5}, {5, 6, 7}, {0, 5, 7}};
     for (int axis = 0; axis < 3; ++axis)
         for (int s : {-1, 1}) {
             std::vector<int> poly;
@@ -125,7 +135,7 @@ TriMesh ShapeBuilder::truncatedCube(double side, double cut) {
                 return std::atan2(m.vertices[a][w], m.vertices[a][u]) <
                        std::atan2(m.vertices[b][w], m.vertices[b][u]);
             });
-            for (size_t i = 1; i + 1 < poly.size(); ++i) m.faces.push_back({poly[0], poly[i], poly[i + 1]});
+            for (const auto& t : kOctagon) m.faces.push_back({poly[t[0]], poly[t[1]], poly[t[2]]});
         }
     m.orientOutward(Eigen::Vector3d::Zero());
     return m;

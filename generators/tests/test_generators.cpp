@@ -451,6 +451,37 @@ static void testShapes() {
         CHECK((p.inertia - I * Eigen::Matrix3d::Identity()).norm() < 1e-12 * I, "inertia %g vs %g",
               p.inertia(0, 0), I);
     }
+    // Symmetry-plane points of the platters and the block must not lie on a facet edge (LIGGGHTS
+    // drops a contact whose point falls exactly on an edge between coplanar facets): the apex
+    // fans put no edge in the planes x = 0, y = 0; the block's face centres lie inside a facet.
+    for (const TriMesh& shape : {ShapeBuilder::semiSpheroid(0.5, 0.15, 96), ShapeBuilder::cone(0.34, 0.78, 48)})
+        for (const auto& t : shape.faces)
+            for (int e = 0; e < 3; ++e) {
+                const Eigen::Vector3d& a = shape.vertices[t[e]];
+                const Eigen::Vector3d& b = shape.vertices[t[(e + 1) % 3]];
+                const bool apex_edge = a.head<2>().norm() < 1e-12 || b.head<2>().norm() < 1e-12;
+                if (!apex_edge) continue;
+                const Eigen::Vector2d rim = (a.head<2>().norm() > b.head<2>().norm() ? a : b).head<2>();
+                CHECK(std::abs(rim.x()) > 1e-3 && std::abs(rim.y()) > 1e-3, "apex edge towards (%g, %g)",
+                      rim.x(), rim.y());
+            }
+    {
+        const TriMesh cube = ShapeBuilder::truncatedCube(0.45, 0.15);
+        for (int axis = 0; axis < 3; ++axis)
+            for (int sgn : {-1, 1}) {
+                Eigen::Vector3d c = Eigen::Vector3d::Zero();
+                c[axis] = sgn * 0.225;
+                double closest = 1;  // distance of the face centre from the nearest edge line
+                for (const auto& t : cube.faces)
+                    for (int e = 0; e < 3; ++e) {
+                        const Eigen::Vector3d& a = cube.vertices[t[e]];
+                        const Eigen::Vector3d& b = cube.vertices[t[(e + 1) % 3]];
+                        if (std::abs(a[axis] - c[axis]) > 1e-12 || std::abs(b[axis] - c[axis]) > 1e-12) continue;
+                        closest = std::min(closest, (c - a).cross(b - a).norm() / (b - a).norm());
+                    }
+                CHECK(closest > 0.01, "face centre axis %d sign %d lies %g from an edge", axis, sgn, closest);
+            }
+    }
     // Limit: a tiny cut gives the cube's m s^2 / 6.
     CHECK_NEAR(ShapeBuilder::truncatedCubeInertia(0.45, 1e-6, 44.5), 44.5 * 0.45 * 0.45 / 6, 1e-9);
     // Off-centre solid: mass properties move with it (parallel-axis theorem).

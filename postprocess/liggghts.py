@@ -47,8 +47,10 @@ def run(deck, workdir, variables=None, np=1, total_steps=None, label="", dt=None
     time, ETA) on long runs; raise with LIGGGHTS' ERROR line on failure."""
     workdir = Path(workdir)
     workdir.mkdir(parents=True, exist_ok=True)
+    # never "-screen none": LIGGGHTS 3.8's STL reader (input_mesh_tri.cpp) prints to the
+    # screen without checking it, so any deck with a mesh would crash
     cmd = [str(binary("liggghts")), "-in", str(deck), "-log", "log.lammps", "-echo", "none",
-           "-screen", "none" if total_steps is None else "screen.txt"]
+           "-screen", "screen.txt"]
     for name, value in (variables or {}).items():
         cmd += ["-var", name, str(value)]
     if np > 1:

@@ -102,19 +102,14 @@ def punch_runner(panel):
 
 PENDING = {
     "impact": "the block impact tests (issue 7: impact tests)",
-    "punch": "a stable contact of the 3.9 g hexagonal-mesh nodes with the semi-spheroid platter "
-             "(issue 6, open: the deck runs, see doc/punch.md 'Open problems', but the first "
-             "contacts blow up; punch.run_case(dir, 'hex', 'spheroid') runs it by hand)",
 }
 CALIBRATION_FRACTIONS = (0.0, 0.01, 0.05, 0.25, 1.0)
 
 CASES = {"beam": ("beam", run_beam_case)}
 for f in CALIBRATION_FRACTIONS:
     CASES[f"calibration_{f:g}"] = ("calibration", calibration_runner(f))
-# punch_runner("hex") / punch_runner("compound") run, but their results are not trustworthy yet
-# (doc/punch.md, Open problems): listed as not implemented rather than reported.
 for name, panel in (("punch_hex", "hex"), ("punch_compound", "compound")):
-    CASES[name] = ("punch", None)
+    CASES[name] = ("punch", punch_runner(panel))
 for name in ("impact_hex", "impact_square", "impact_compound"):
     CASES[name] = ("impact", None)
 
@@ -122,7 +117,7 @@ STUDIES = {"compound": list(CASES),
            "calibration": [n for n in CASES if n.startswith("calibration_")],
            "punch": [n for n in CASES if CASES[n][0] in ("calibration", "punch")]}
 # ./wirenet run calibration: the five cone punches; ./wirenet run punch: those and the two
-# semi-spheroid punches (listed as not implemented until their contact is stable)
+# semi-spheroid punches
 CSV_OF_KIND = {"beam": "beam.csv", "calibration": "platter.csv", "punch": "platter.csv",
                "impact": "block.csv"}
 

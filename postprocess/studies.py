@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import liggghts, punch, report
+from . import impact, liggghts, punch, report
 from .output import write_text
 
 # ---------------------------------------------------------------------------------------------
@@ -100,8 +100,13 @@ def punch_runner(panel):
     return run_punch_case
 
 
+def impact_runner(panel):
+    def run_impact_case(case_dir, quick=False, np_=1):
+        return impact.run_case(case_dir, panel, bending=0.05, quick=quick, np_=np_)
+    return run_impact_case
+
+
 PENDING = {
-    "impact": "the block impact tests (issue 7: impact tests)",
     "punch": "a stable contact of the 3.9 g hexagonal-mesh nodes with the semi-spheroid platter "
              "(issue 6, open: the deck runs, see doc/punch.md 'Open problems', but the first "
              "contacts blow up; punch.run_case(dir, 'hex', 'spheroid') runs it by hand)",
@@ -115,12 +120,14 @@ for f in CALIBRATION_FRACTIONS:
 # (doc/punch.md, Open problems): listed as not implemented rather than reported.
 for name, panel in (("punch_hex", "hex"), ("punch_compound", "compound")):
     CASES[name] = ("punch", None)
-for name in ("impact_hex", "impact_square", "impact_compound"):
-    CASES[name] = ("impact", None)
+for name, panel in (("impact_hex", "hex"), ("impact_square", "square"),
+                    ("impact_compound", "compound")):
+    CASES[name] = ("impact", impact_runner(panel))
 
 STUDIES = {"compound": list(CASES),
            "calibration": [n for n in CASES if n.startswith("calibration_")],
-           "punch": [n for n in CASES if CASES[n][0] in ("calibration", "punch")]}
+           "punch": [n for n in CASES if CASES[n][0] in ("calibration", "punch")],
+           "impact": [n for n in CASES if CASES[n][0] == "impact"]}
 # ./wirenet run calibration: the five cone punches; ./wirenet run punch: those and the two
 # semi-spheroid punches (listed as not implemented until their contact is stable)
 CSV_OF_KIND = {"beam": "beam.csv", "calibration": "platter.csv", "punch": "platter.csv",

@@ -272,3 +272,21 @@ def test_bad_impact_arguments(tmp_path):
     assert p.returncode != 0
     assert "unknown study or case 'impact_sqaure'" in p.stderr
     assert len(p.stderr.strip().splitlines()) == 1
+
+
+def test_undamped_impact_momentum_is_carried_by_the_supports(tmp_path):
+    """Without local damping (alpha 0) nothing but the supports and gravity acts on block + net
+    from outside: their impulses alone equal the change of momentum, and the elastic rope net
+    keeps the energy (no damping, no plasticity): the budget closes with kinetic + elastic +
+    potential energy and the contact term."""
+    os.environ.setdefault("WIRENET_BUILD", str(lmp.BUILD))
+    facts = impact.run_case(str(tmp_path), "square", quick=True, alpha=0.0, duration=0.03)
+    mom = facts["momentum"]
+    assert mom["final"]["jz_damping"] == 0.0
+    assert mom["error"] < 0.02, mom
+    final = mom["final"]
+    balance = final["jz_reactions"] + final["jz_gravity"]
+    assert final["dpz_total"] == pytest.approx(balance, abs=0.02 * 445.0)
+    energy = facts["energy"]
+    assert energy["closure_error"] < 0.05, energy
+    assert energy["final"]["damping"] == 0.0

@@ -237,6 +237,7 @@ void BondWirenet::compute(int eflag, int vflag)
   if (eflag || vflag) ev_setup(eflag, vflag);
   else evflag = 0;
   if (history->list_version() != list_version) build_list();
+  history->take_pair_forces();  // no-op unless fix wirenet/contactwork pair asked for them
 
   double **x = atom->x;
   plastic_work = 0.0;

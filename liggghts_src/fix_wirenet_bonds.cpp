@@ -27,7 +27,7 @@ static const int RUPTURE_COLS = 8;
 FixWirenetBonds::FixWirenetBonds(LAMMPS *lmp, int narg, char **arg) :
   Fix(lmp, narg, arg),
   hist(NULL), quat(NULL), rot(NULL), orient_flag(0), version(0), ghost_extent(0.0),
-  nbroken_total(0), nbroken_pending(0), maxlocal(0)
+  nbroken_total(0), nbroken_pending(0), pair_wanted(false), maxlocal(0)
 {
   energy_mine[0] = energy_mine[1] = 0.0;
   if (narg != 3) error->all(FLERR, "fix wirenet/bonds takes no arguments (it is created by bond_style wirenet)");
@@ -252,6 +252,19 @@ double FixWirenetBonds::compute_scalar()
   int pending = nbroken_pending, all = 0;
   MPI_Allreduce(&pending, &all, 1, MPI_INT, MPI_SUM, world);
   return (double)(nbroken_total + all);
+}
+
+void FixWirenetBonds::take_pair_forces()
+{
+  if (!pair_wanted) return;
+  const int nlocal = atom->nlocal;
+  double **f = atom->f, **t = atom->torque_flag ? atom->torque : NULL;
+  pair_snap.resize(6 * (size_t)nlocal);
+  for (int i = 0; i < nlocal; i++)
+    for (int k = 0; k < 3; k++) {
+      pair_snap[6 * (size_t)i + k] = f[i][k];
+      pair_snap[6 * (size_t)i + 3 + k] = t ? t[i][k] : 0.0;
+    }
 }
 
 double FixWirenetBonds::compute_vector(int n)

@@ -66,6 +66,11 @@ class FixWirenetBonds : public Fix {
   void break_bond(int i, int m, const double *mid, double elongation, double energy = 0.0);
   // plastic work dissipated by this rank's wire bonds (energy budget, global vector [3])
   void add_plastic_work(double w) { energy_mine[1] += w; }
+  // Force and torque on the local atoms when the bond style starts its compute(), i.e. the pair
+  // forces (fix wirenet/contactwork pair); taken only once someone asked for them.
+  void request_pair_forces() { pair_wanted = true; }
+  void take_pair_forces();
+  const std::vector<double> &pair_forces() const { return pair_snap; }
   // longest bond (collective): the largest initial length once every bond is initialised,
   // else the largest current length, found by gathering positions (no ghosts exist yet)
   double max_bond_length_global();
@@ -83,6 +88,8 @@ class FixWirenetBonds : public Fix {
   // this rank's tallies since the bonds were created (rank 0 also holds a restart's totals):
   // [0] elastic energy released at ruptures, [1] plastic work of the wire bonds
   double energy_mine[2];
+  bool pair_wanted;
+  std::vector<double> pair_snap;  // [6 * nlocal]: f and torque
 
   int maxlocal;  // rows allocated in array_local (this rank's ruptures, for dump local)
 

@@ -13,6 +13,8 @@
 #include "atom.h"
 #include "comm.h"
 #include "error.h"
+#include "fix_wirenet_bonds.h"
+#include "force.h"
 #include "modify.h"
 #include "update.h"
 
@@ -20,17 +22,21 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 
 FixWirenetContactWork::FixWirenetContactWork(LAMMPS *lmp, int narg, char **arg) :
-  Fix(lmp, narg, arg), is_mark(false), mark(NULL), rotational(false), nheld(-1)
+  Fix(lmp, narg, arg), is_mark(false), is_pair(false), bonds(NULL), mark(NULL), rotational(false),
+  nheld(-1)
 {
-  const char *usage = "fix wirenet/contactwork: expected 'fix ID GROUP wirenet/contactwork mark' or "
-                      "'fix ID GROUP wirenet/contactwork since MARK-ID'";
+  const char *usage = "fix wirenet/contactwork: expected 'fix ID GROUP wirenet/contactwork mark', "
+                      "'... since MARK-ID' or '... pair'";
   if (narg == 4 && strcmp(arg[3], "mark") == 0) {
     is_mark = true;
+  } else if (narg == 4 && strcmp(arg[3], "pair") == 0) {
+    is_pair = true;
   } else if (narg == 5 && strcmp(arg[3], "since") == 0) {
     mark_id = arg[4];
-  } else if (narg >= 4 && strcmp(arg[3], "mark") != 0 && strcmp(arg[3], "since") != 0) {
+  } else if (narg >= 4 && strcmp(arg[3], "mark") != 0 && strcmp(arg[3], "since") != 0 &&
+             strcmp(arg[3], "pair") != 0) {
     error->all(FLERR, (std::string("fix wirenet/contactwork: unknown mode '") + arg[3] +
-                       "' (use 'mark' or 'since MARK-ID')").c_str());
+                       "' (use 'mark', 'since MARK-ID' or 'pair')").c_str());
   } else {
     error->all(FLERR, usage);
   }
@@ -57,6 +63,15 @@ void FixWirenetContactWork::init()
   if (strstr(update->integrate_style, "respa"))
     error->all(FLERR, "fix wirenet/contactwork does not support run_style respa");
   if (is_mark) return;
+  if (is_pair) {
+    bonds = dynamic_cast<FixWirenetBonds *>(modify->find_fix_id("wirenet_bonds"));
+    if (!bonds) error->all(FLERR, "fix wirenet/contactwork pair: needs bond_style wirenet (it takes the pair forces)");
+    if (force->newton_pair)
+      error->all(FLERR, "fix wirenet/contactwork pair: needs newton_pair off ('newton off on'): with newton_pair on the "
+                        "pair forces of ghost atoms are not summed yet when they are taken");
+    bonds->request_pair_forces();
+    return;
+  }
   const int imark = modify->find_fix(mark_id.c_str());
   if (imark < 0)
     error->all(FLERR, ("fix wirenet/contactwork: mark fix '" + mark_id + "' does not exist").c_str());
@@ -92,10 +107,21 @@ void FixWirenetContactWork::post_force(int)
     }
     return;
   }
+  const int *mask = atom->mask;
+  if (is_pair) {
+    // the pair forces: force and torque when the bond style started, before any bond force
+    const std::vector<double> &pair = bonds->pair_forces();
+    if (pair.size() != snap.size())
+      error->one(FLERR, "fix wirenet/contactwork pair: no pair forces taken this step (atoms changed?)");
+    for (int i = 0; i < nlocal; i++)
+      for (int k = 0; k < 6; k++)
+        snap[6 * (size_t)i + k] = (mask[i] & groupbit) ? pair[6 * (size_t)i + k] : 0.0;
+    nheld = nlocal;
+    return;
+  }
   const std::vector<double> &before = mark->snap;
   if (before.size() != snap.size())
     error->one(FLERR, "fix wirenet/contactwork: atoms changed between the mark fix and this one");
-  const int *mask = atom->mask;
   for (int i = 0; i < nlocal; i++) {
     double *s = &snap[6 * (size_t)i];
     const double *b = &before[6 * (size_t)i];

@@ -1,5 +1,6 @@
 /* WireNet: fix wirenet/contactwork, the work and impulse of the forces that the fixes defined
-   between a 'mark' instance and a 'since' instance add to the atoms (e.g. fix wall/gran).
+   between a 'mark' instance and a 'since' instance add to the atoms (e.g. fix wall/gran), or
+   of the pair forces ('pair' mode).
    See doc/fix_wirenet_contactwork.md. */
 
 #ifdef FIX_CLASS
@@ -35,6 +36,8 @@ class FixWirenetContactWork : public Fix {
 
  private:
   bool is_mark;
+  bool is_pair;               // measure the pair forces (taken by fix wirenet/bonds)
+  class FixWirenetBonds *bonds;
   std::string mark_id;
   FixWirenetContactWork *mark;
   bool rotational;

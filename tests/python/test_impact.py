@@ -171,6 +171,7 @@ run 3000
 
 @pytest.mark.parametrize("args,message", [
     ("sinse cw0", "unknown mode 'sinse'"),
+    ("pair", "needs bond_style wirenet"),
     ("since", "expected 'fix ID GROUP wirenet/contactwork mark'"),
     ("since nosuch", "mark fix 'nosuch' does not exist"),
     ("since integ", "fix 'integ' is not a 'fix wirenet/contactwork mark'"),
@@ -290,3 +291,49 @@ def test_undamped_impact_momentum_is_carried_by_the_supports(tmp_path):
     energy = facts["energy"]
     assert energy["closure_error"] < 0.05, energy
     assert energy["final"]["damping"] == 0.0
+
+
+def test_contactwork_pair_matches_the_kinetic_energy_of_two_colliding_nodes(tmp_path):
+    """Two free node spheres collide off-centre through pair_style gran (friction, no damping);
+    a bonded pair elsewhere makes bond_style wirenet present. The work of the pair forces equals
+    the change of kinetic energy of the two spheres, the total pair impulse is zero."""
+    r, rho = 0.005, 7850.0
+    atoms = [(1, 1, 0.0, 0.0, 0.0, 2 * r, rho, 1), (2, 1, 0.0125, 0.004, 0.0, 2 * r, rho, 2),
+             (3, 1, 0.5, 0.5, 0.0, 2 * r, rho, 3), (4, 1, 0.54, 0.5, 0.0, 2 * r, rho, 3)]
+    lmp.write_data(tmp_path / "four.data", atoms, [(1, 1, 3, 4)])
+    deck = lmp.PREAMBLE + f"""communicate single vel yes
+read_data four.data
+bond_style wirenet
+bond_coeff 1 wire diameter 0.0027 curve {SW_TEXT}
+fix m1 all property/global kn peratomtypepair 1 1e6
+fix m2 all property/global kt peratomtypepair 1 1e5
+fix m3 all property/global gamman peratomtypepair 1 0
+fix m4 all property/global gammat peratomtypepair 1 0
+fix m5 all property/global coefficientFriction peratomtypepair 1 0.4
+pair_style gran model hooke/stiffness tangential history
+pair_coeff * *
+neighbor 0.002 bin
+neigh_modify delay 0
+group two id 1 2
+velocity all set 0 0 0 units box
+set atom 1 vx 1.0
+set atom 1 vy 0.2
+fix integ all nve/sphere
+fix cwp all wirenet/contactwork pair
+compute ke two ke
+compute kr two erotate/sphere
+variable ek equal c_ke+c_kr
+variable px equal vx[1]
+thermo_style custom step v_ek f_cwp f_cwp[3] f_cwp[4] f_cwp[5] v_px
+thermo_modify format float %.17g
+thermo 100
+timestep 1e-6
+run 6000
+"""
+    rows = lmp.thermo_rows(lmp.run_deck(deck, tmp_path))
+    first, last = rows[0], rows[-1]
+    assert last["px"] < 0.9                             # they collided
+    assert last["cwp"] < -1e-3 * first["ek"]            # friction took energy out
+    assert last["cwp"] == pytest.approx(last["ek"] - first["ek"], rel=1e-3, abs=1e-6 * first["ek"])
+    for k in (3, 4, 5):                                 # action = reaction
+        assert abs(last[f"cwp[{k}]"]) < 1e-9

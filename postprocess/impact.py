@@ -8,7 +8,8 @@ Deck: inputs/impact.in. Beyond the paper, every case gets:
   positions), elastic energy of the bonds (bond style energy tally), plastic work of the wires
   (tallied in the wire-law evaluation), energy released by broken bonds (fix wirenet/bonds),
   work of the local damping (fix wirenet/damping), work of the contact forces on the nodes
-  (fix wirenet/contactwork around fix wall/gran) and on the block (fix wirenet/rigidmesh).
+  (fix wirenet/contactwork around fix wall/gran) and on the block (fix wirenet/rigidmesh), work
+  of the node-node contacts between compound layers (fix wirenet/contactwork pair).
   Their sum must stay at its initial value; ``closure_error`` is the largest departure
   relative to the initial energy;
 - a momentum balance: the change of the momentum of block and net equals the impulse of the
@@ -110,7 +111,7 @@ class Setup:
 
 COLUMNS = ("step", "time", "x", "y", "z", "vx", "vy", "vz", "force", "fx", "fy", "fz",
            "ke_block", "pe_block", "w_contact_block", "ke_net", "pe_net", "e_elastic",
-           "w_plastic", "e_released", "broken", "w_damping", "w_contact_net", "px_net",
+           "w_plastic", "e_released", "broken", "w_damping", "w_contact_net", "w_contact_pair", "px_net",
            "py_net", "pz_net", "jx_damp", "jy_damp", "jz_damp", "jx_contact", "jy_contact",
            "jz_contact", "rx", "ry", "rz", "rx_mean", "ry_mean", "rz_mean", "force_mean")
 
@@ -128,7 +129,7 @@ def read_impact(workdir):
 
 
 ENERGY_TERMS = ("ke_block", "ke_net", "pe_block", "pe_net", "e_elastic", "w_plastic",
-                "e_released", "damping", "contact")
+                "e_released", "damping", "contact", "contact_layers")
 
 
 def energy_budget(table):
@@ -149,6 +150,8 @@ def energy_budget(table):
         "damping": -(t["w_damping"] - t["w_damping"][0]),
         "contact": -((t["w_contact_block"] - t["w_contact_block"][0]) +
                      (t["w_contact_net"] - t["w_contact_net"][0])),
+        # node-node contacts between the layers of a compound panel (friction)
+        "contact_layers": -(t["w_contact_pair"] - t["w_contact_pair"][0]),
     }
     total = sum(terms[k] for k in ENERGY_TERMS)
     e0 = float(total[0])

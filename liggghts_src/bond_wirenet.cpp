@@ -22,7 +22,7 @@ using namespace WireNet;
 
 static const char HISTORY_FIX_ID[] = "wirenet_bonds";
 
-BondWirenet::BondWirenet(LAMMPS *lmp) : Bond(lmp), list_version(-1), history(NULL), any_beam(0) {}
+BondWirenet::BondWirenet(LAMMPS *lmp) : Bond(lmp), list_version(-1), history(NULL), any_beam(0), plastic_work(0.0) {}
 
 BondWirenet::~BondWirenet()
 {
@@ -186,12 +186,19 @@ inline void BondWirenet::compute_wire(const Entry &e, double dx, double dy, doub
 {
   double *h = e.h;
   double tension;
+  const double umax0 = h[W_UMAX], fmax0 = h[W_FMAX];
   if (!wires[e.type]->tension(r - h[W_L0], h, tension)) {
     double **x = atom->x;
     const double mid[3] = { x[e.i][0] + 0.5 * dx, x[e.i][1] + 0.5 * dy, x[e.i][2] + 0.5 * dz };
-    history->break_bond(e.i, e.m, mid, r - h[W_L0]);
+    // released: the elastic energy of the last state (on the envelope, at the largest elongation)
+    history->break_bond(e.i, e.m, mid, r - h[W_L0], 0.5 * fmax0 * fmax0 / h[W_KU]);
     return;
   }
+  // Plastic work: only a growing largest elongation dissipates (unloading and reloading follow
+  // the elastic line). Work along the envelope (trapezoid) minus the growth of the elastic energy.
+  if (h[W_UMAX] > umax0)
+    plastic_work += 0.5 * (fmax0 + h[W_FMAX]) * (h[W_UMAX] - umax0) -
+                    0.5 * (h[W_FMAX] * h[W_FMAX] - fmax0 * fmax0) / h[W_KU];
   if (tension == 0.0) return;
   const double fr = tension / r;
   double **f = atom->f;
@@ -230,8 +237,10 @@ void BondWirenet::compute(int eflag, int vflag)
   if (eflag || vflag) ev_setup(eflag, vflag);
   else evflag = 0;
   if (history->list_version() != list_version) build_list();
+  history->take_pair_forces();  // no-op unless fix wirenet/contactwork pair asked for them
 
   double **x = atom->x;
+  plastic_work = 0.0;
   for (const Entry &e : list) {
     const double l0 = e.h[FixWirenetBonds::L0];
     if (l0 < 0.0) continue;  // broken earlier, awaiting removal
@@ -244,6 +253,7 @@ void BondWirenet::compute(int eflag, int vflag)
     if (wires[e.type]) compute_wire(e, dx, dy, dz, r, eflag);
     else compute_beam(e, eflag);
   }
+  if (plastic_work != 0.0) history->add_plastic_work(plastic_work);
   if (update->setupflag) report_timestep();
 }
 

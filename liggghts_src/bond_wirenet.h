@@ -53,6 +53,7 @@ class BondWirenet : public Bond {
   std::vector<std::unique_ptr<WireNet::WireLaw>> wires;     // [type], null if not a wire
   std::vector<std::unique_ptr<WireNet::BeamLaw>> beams;     // [type], null if not a beam
   int any_beam;
+  double plastic_work;  // plastic work of the wire bonds in this compute() (energy budget)
 
   void allocate();
   void set_type(int type, const WireNet::BondTypeSpec &spec);

@@ -27,8 +27,9 @@ static const int RUPTURE_COLS = 8;
 FixWirenetBonds::FixWirenetBonds(LAMMPS *lmp, int narg, char **arg) :
   Fix(lmp, narg, arg),
   hist(NULL), quat(NULL), rot(NULL), orient_flag(0), version(0), ghost_extent(0.0),
-  nbroken_total(0), nbroken_pending(0), maxlocal(0)
+  nbroken_total(0), nbroken_pending(0), pair_wanted(false), maxlocal(0)
 {
+  energy_mine[0] = energy_mine[1] = 0.0;
   if (narg != 3) error->all(FLERR, "fix wirenet/bonds takes no arguments (it is created by bond_style wirenet)");
   if (!atom->molecular) error->all(FLERR, "fix wirenet/bonds needs an atom style with bonds");
 
@@ -40,6 +41,10 @@ FixWirenetBonds::FixWirenetBonds(LAMMPS *lmp, int narg, char **arg) :
   create_attribute = 0;
   scalar_flag = 1;
   extscalar = 0;
+  // global vector: broken bonds, energy released at ruptures, plastic work of the wire bonds
+  vector_flag = 1;
+  size_vector = 3;
+  extvector = 0;
   global_freq = 1;
   local_flag = 1;
   // The rupture rows are current at every step. Fix() leaves both frequencies uninitialised;
@@ -161,26 +166,33 @@ void FixWirenetBonds::unpack_comm(int n, int first, double *buf)
 
 void FixWirenetBonds::write_restart(FILE *fp)
 {
+  double energy_all[2];
+  MPI_Reduce(energy_mine, energy_all, 2, MPI_DOUBLE, MPI_SUM, 0, world);
   if (comm->me != 0) return;
-  double list[1] = { (double)nbroken_total };
+  double list[3] = { (double)nbroken_total, energy_all[0], energy_all[1] };
   // Modify::read_restart reads this many BYTES of state (not values).
   int size = (int)sizeof(list);
   fwrite(&size, sizeof(int), 1, fp);
-  fwrite(list, sizeof(double), 1, fp);
+  fwrite(list, sizeof(double), 3, fp);
 }
 
+// The energy totals go to rank 0's share; the other ranks start from zero.
 void FixWirenetBonds::restart(char *buf)
 {
-  nbroken_total = (bigint)((double *)buf)[0];
+  const double *list = (const double *)buf;
+  nbroken_total = (bigint)list[0];
+  energy_mine[0] = comm->me == 0 ? list[1] : 0.0;
+  energy_mine[1] = comm->me == 0 ? list[2] : 0.0;
 }
 
 /* ------------------------------------------------------------------------------------------- */
 
 // The rupture record goes straight into the local array that dump local reads: one row appended,
 // storage doubled when full (ruptures come in bursts when a net tears).
-void FixWirenetBonds::break_bond(int i, int m, const double *mid, double elongation)
+void FixWirenetBonds::break_bond(int i, int m, const double *mid, double elongation, double energy)
 {
   hist[i][m * NHIST + L0] = -1.0;
+  energy_mine[0] += energy;
   nbroken_pending++;
   const int n = size_local_rows;
   if (n == maxlocal) {
@@ -240,6 +252,27 @@ double FixWirenetBonds::compute_scalar()
   int pending = nbroken_pending, all = 0;
   MPI_Allreduce(&pending, &all, 1, MPI_INT, MPI_SUM, world);
   return (double)(nbroken_total + all);
+}
+
+void FixWirenetBonds::take_pair_forces()
+{
+  if (!pair_wanted) return;
+  const int nlocal = atom->nlocal;
+  double **f = atom->f, **t = atom->torque_flag ? atom->torque : NULL;
+  pair_snap.resize(6 * (size_t)nlocal);
+  for (int i = 0; i < nlocal; i++)
+    for (int k = 0; k < 3; k++) {
+      pair_snap[6 * (size_t)i + k] = f[i][k];
+      pair_snap[6 * (size_t)i + 3 + k] = t ? t[i][k] : 0.0;
+    }
+}
+
+double FixWirenetBonds::compute_vector(int n)
+{
+  if (n == 0) return compute_scalar();
+  double all = 0.0;
+  MPI_Allreduce(&energy_mine[n - 1], &all, 1, MPI_DOUBLE, MPI_SUM, world);
+  return all;
 }
 
 /* ------------------------------------------------------------------------------------------- */

@@ -35,6 +35,7 @@ class FixWirenetBonds : public Fix {
   void post_integrate();
   void post_run();
   double compute_scalar();
+  double compute_vector(int);
   double extend_cut_ghost();
 
   void grow_arrays(int);
@@ -60,8 +61,16 @@ class FixWirenetBonds : public Fix {
   long list_version() const { return version; }
   void use_orientations() { orient_flag = 1; }
   void set_ghost_extent(double cut) { ghost_extent = cut; }
-  // flag the bond (i, slot m) as broken; it leaves the atom's bond list at the next exchange
-  void break_bond(int i, int m, const double *mid, double elongation);
+  // flag the bond (i, slot m) as broken; it leaves the atom's bond list at the next exchange;
+  // energy = the elastic energy the bond stored when it broke (released)
+  void break_bond(int i, int m, const double *mid, double elongation, double energy = 0.0);
+  // plastic work dissipated by this rank's wire bonds (energy budget, global vector [3])
+  void add_plastic_work(double w) { energy_mine[1] += w; }
+  // Force and torque on the local atoms when the bond style starts its compute(), i.e. the pair
+  // forces (fix wirenet/contactwork pair); taken only once someone asked for them.
+  void request_pair_forces() { pair_wanted = true; }
+  void take_pair_forces();
+  const std::vector<double> &pair_forces() const { return pair_snap; }
   // longest bond (collective): the largest initial length once every bond is initialised,
   // else the largest current length, found by gathering positions (no ghosts exist yet)
   double max_bond_length_global();
@@ -76,6 +85,11 @@ class FixWirenetBonds : public Fix {
   double ghost_extent;
   bigint nbroken_total;  // all ranks, since the bonds were created (restarted)
   int nbroken_pending;   // flagged on this rank, not yet removed from the bond lists
+  // this rank's tallies since the bonds were created (rank 0 also holds a restart's totals):
+  // [0] elastic energy released at ruptures, [1] plastic work of the wire bonds
+  double energy_mine[2];
+  bool pair_wanted;
+  std::vector<double> pair_snap;  // [6 * nlocal]: f and torque
 
   int maxlocal;  // rows allocated in array_local (this rank's ruptures, for dump local)
 

@@ -42,13 +42,14 @@ FixWirenetDamping::FixWirenetDamping(LAMMPS *lmp, int narg, char **arg) :
 
   scalar_flag = 1;
   vector_flag = 1;
-  size_vector = 2;
+  size_vector = 5;   // work of forces, work of torques, impulse x y z of the forces
   global_freq = 1;
   extscalar = 1;
   extvector = 1;
   restart_global = 1;
   work_mine[0] = work_mine[1] = 0.0;
   work_all[0] = work_all[1] = 0.0;
+  for (int k = 0; k < 3; k++) impulse_mine[k] = impulse_all[k] = 0.0;
 }
 
 int FixWirenetDamping::setmask()
@@ -118,6 +119,7 @@ void FixWirenetDamping::end_of_step()
   for (int i = 0; i < ndamped; i++) {
     const double *fd = &fdamp[6 * (size_t)i];
     work_mine[0] += dt * (fd[0] * v[i][0] + fd[1] * v[i][1] + fd[2] * v[i][2]);
+    for (int k = 0; k < 3; k++) impulse_mine[k] += dt * fd[k];
     if (rotational) {
       const double *w = atom->omega[i];
       work_mine[1] += dt * (fd[3] * w[0] + fd[4] * w[1] + fd[5] * w[2]);
@@ -129,6 +131,7 @@ void FixWirenetDamping::end_of_step()
 void FixWirenetDamping::reduce_work()
 {
   MPI_Allreduce(work_mine, work_all, 2, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(impulse_mine, impulse_all, 3, MPI_DOUBLE, MPI_SUM, world);
 }
 
 double FixWirenetDamping::compute_scalar()
@@ -140,7 +143,7 @@ double FixWirenetDamping::compute_scalar()
 double FixWirenetDamping::compute_vector(int n)
 {
   reduce_work();
-  return work_all[n];
+  return n < 2 ? work_all[n] : impulse_all[n - 2];
 }
 
 // The totals go to rank 0's share on restart; the other ranks start from zero.
@@ -148,9 +151,10 @@ void FixWirenetDamping::write_restart(FILE *fp)
 {
   reduce_work();
   if (comm->me != 0) return;
-  int n = 2 * sizeof(double);
+  const double list[5] = { work_all[0], work_all[1], impulse_all[0], impulse_all[1], impulse_all[2] };
+  int n = 5 * sizeof(double);
   fwrite(&n, sizeof(int), 1, fp);
-  fwrite(work_all, sizeof(double), 2, fp);
+  fwrite(list, sizeof(double), 5, fp);
 }
 
 void FixWirenetDamping::restart(char *buf)
@@ -158,4 +162,5 @@ void FixWirenetDamping::restart(char *buf)
   const double *list = (const double *)buf;
   work_mine[0] = comm->me == 0 ? list[0] : 0.0;
   work_mine[1] = comm->me == 0 ? list[1] : 0.0;
+  for (int k = 0; k < 3; k++) impulse_mine[k] = comm->me == 0 ? list[2 + k] : 0.0;
 }

@@ -37,6 +37,8 @@ class FixWirenetDamping : public Fix {
   int ndamped;                // local atoms in fdamp; -1 = nothing to account this step
   double work_mine[2];        // work of damping forces / torques done on this rank's atoms
   double work_all[2];         // reduced over ranks (by reduce_work)
+  double impulse_mine[3];     // impulse of the damping forces on this rank's atoms (momentum budget)
+  double impulse_all[3];
   void reduce_work();
 };
 

@@ -32,7 +32,7 @@ using Eigen::Vector3d;
 
 namespace {
 
-const int NRESTART = 21;
+const int NRESTART = 22;
 
 double number(const char *s, const std::string &what)
 {
@@ -60,7 +60,7 @@ void to_array(const Quaterniond &q, double *a) { a[0] = q.w(); a[1] = q.x(); a[2
 FixWirenetRigidMesh::FixWirenetRigidMesh(LAMMPS *lmp, int narg, char **arg) :
   Fix(lmp, narg, arg), fix_mesh(NULL), stress(NULL), gravity(Vector3d::Zero()),
   f_contact(Vector3d::Zero()), t_contact(Vector3d::Zero()), setup_forces_pending(false),
-  x_anchor(Vector3d::Zero()), x_last(Vector3d::Zero()), registered(false)
+  x_anchor(Vector3d::Zero()), x_last(Vector3d::Zero()), registered(false), contact_work(0.0)
 {
   Vector3d com, vel, omega;
   bool have_com = false;
@@ -257,6 +257,9 @@ void FixWirenetRigidMesh::final_integrate()
 {
   take_contact_forces();
   body->kick(total_force(), t_contact, 0.5 * update->dt);
+  // F(t+dt) . v(t+dt) dt, the convention of fix wirenet/damping: summed over all forces it is the
+  // change of the half-step kinetic energy
+  contact_work += update->dt * (f_contact.dot(body->v) + t_contact.dot(body->omega()));
 }
 
 // nodes = x + R (orig - x_anchor), R = q q_anchor^-1: the mesh rotates its reference nodes
@@ -313,6 +316,7 @@ double FixWirenetRigidMesh::compute_vector(int n)
   if (n == 17) return body->rotational_energy();
   if (n == 18) return -body->mass() * gravity.dot(body->x);
   if (n < 22) return body->L[n - 19];
+  if (n == 26) return contact_work;
   Quaterniond r = (body->q * q_defined.conjugate()).normalized();
   if (r.w() < 0.0) r.coeffs() *= -1.0;
   const double c[4] = { r.w(), r.x(), r.y(), r.z() };
@@ -331,6 +335,7 @@ void FixWirenetRigidMesh::write_restart(FILE *fp)
   to_array(q_defined, &list[k]); k += 4;
   for (int d = 0; d < 3; d++) list[k++] = body->principal_moments()[d];
   list[k++] = body->mass();
+  list[k++] = contact_work;
   int size = NRESTART * sizeof(double);
   fwrite(&size, sizeof(int), 1, fp);
   fwrite(list, sizeof(double), NRESTART, fp);
@@ -349,6 +354,7 @@ void FixWirenetRigidMesh::restart(char *buf)
   body->L = Vector3d(list[6], list[7], list[8]);
   body->q = Quaterniond(list[9], list[10], list[11], list[12]).normalized();
   q_defined = Quaterniond(list[13], list[14], list[15], list[16]).normalized();
+  contact_work = list[21];
   x_anchor = x_last = body->x;
   q_anchor = q_last = body->q;
 }

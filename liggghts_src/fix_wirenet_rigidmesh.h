@@ -20,8 +20,8 @@ namespace LAMMPS_NS {
 
 class FixWirenetRigidMesh : public Fix {
  public:
-  // global vector: x(3) v(3) omega(3) F(3) |F| T(3) KE KE_rot PE_gravity L(3) q(4)
-  static const int NVECTOR = 26;
+  // global vector: x(3) v(3) omega(3) F(3) |F| T(3) KE KE_rot PE_gravity L(3) q(4) W_contact
+  static const int NVECTOR = 27;
 
   FixWirenetRigidMesh(class LAMMPS *, int, char **);
   ~FixWirenetRigidMesh();
@@ -52,6 +52,7 @@ class FixWirenetRigidMesh : public Fix {
   Eigen::Vector3d x_anchor, x_last;
   Eigen::Quaterniond q_anchor, q_last;
   bool registered;
+  double contact_work;           // work of the contact force and torque on the block (all ranks)
 
   void parse(int narg, char **arg, Eigen::Vector3d &com, bool &have_com, Eigen::Vector3d &vel,
              Eigen::Vector3d &omega);

@@ -160,7 +160,8 @@ def _add_study(sub):
                     "into DIR/CASE/ folders, skips cases already complete, then writes "
                     "DIR/report.md and DIR/summary.json.")
     p.add_argument("study", nargs="?", default="compound", metavar="STUDY|CASE",
-                   help="study (compound) or case (beam, calibration_0.05, punch_hex, ...)")
+                   help="study (compound, calibration, punch, impact) or case (beam, "
+                        "calibration_0.05, punch_hex, impact_square, ...)")
     p.add_argument("--quick", action="store_true", help="coarse, short versions of the cases")
     p.add_argument("--np", type=int, default=1, metavar="N", help="MPI ranks for LIGGGHTS")
     p.add_argument("--out", metavar="DIR", help="output folder (default: out/STUDY)")

@@ -68,7 +68,50 @@ def case_summary(case):
         summary["beam_max_nrmse"] = _peak_abs(beam["nrmse"])
     for key in ("first_rupture", "edge_force_peak", "wall_time"):
         summary[key] = case.meta.get(key)
+    if case.kind == "impact":
+        energy = case.meta.get("energy") or {}
+        momentum = case.meta.get("momentum") or {}
+        summary["impact"] = {"closure_error": energy.get("closure_error"),
+                             "momentum_error": momentum.get("error"),
+                             "broken_bonds": case.meta.get("broken_bonds"),
+                             "max_displacement": case.meta.get("max_displacement"),
+                             "rebound_time": case.meta.get("rebound_time"),
+                             "edge_force_peak": case.meta.get("edge_force_peak"),
+                             "peak_block_force": case.meta.get("peak_block_force")}
     return summary
+
+
+# --- impact peak comparison (Figures 5 and 6) -----------------------------------------------
+
+IMPACT_PAIRS = (("impact_hex", ("DT", "SW")), ("impact_square", ("rope",)))
+
+
+def impact_peak_rows(summaries):
+    """Rows (family, single case, compound ...) of the peak comparison single net vs compound:
+    peak total and peak maximum tension in the zone, and the compound / single ratios."""
+    rows = []
+    compound = summaries.get("impact_compound", {}).get("zone", {})
+    for single, families in IMPACT_PAIRS:
+        zone = summaries.get(single, {}).get("zone", {})
+        for family in families:
+            a, b = zone.get(family), compound.get(family)
+            if a is None and b is None:
+                continue
+
+            def value(entry, key):
+                return None if entry is None else entry[key]
+
+            def ratio(key):
+                x, y = value(a, key), value(b, key)
+                return y / x if x and y is not None else None
+            rows.append({"family": family, "single": single,
+                         "single_peak_total": value(a, "peak_total_tension"),
+                         "compound_peak_total": value(b, "peak_total_tension"),
+                         "ratio_total": ratio("peak_total_tension"),
+                         "single_peak_max": value(a, "peak_max_tension"),
+                         "compound_peak_max": value(b, "peak_max_tension"),
+                         "ratio_max": ratio("peak_max_tension")})
+    return rows
 
 
 # --- claims ---------------------------------------------------------------------------------
@@ -232,6 +275,31 @@ def markdown(directory, summaries, claims, missing, figures):
     lines += _table(["case", "family", "peak total tension [N]", "at time [s]",
                      "peak max tension [N]", "at time [s]"], zone_rows) if zone_rows else \
         ["No zone_forces.csv found."]
+    impacts = {n: s["impact"] for n, s in summaries.items() if s.get("impact")}
+    if impacts:
+        lines += ["", "## Impact cases: energy budget, momentum, supports", "",
+                  "Closure: largest departure of the energy budget from its initial value "
+                  "relative to the initial energy; momentum: largest gap between the change of "
+                  "momentum of block + net and the impulses of supports, gravity and damping, "
+                  "relative to the block's initial momentum (case.json, energy.csv, "
+                  "momentum.csv, edges.csv, ruptures.csv).", ""]
+        lines += _table(["case", "energy closure [-]", "momentum error [-]",
+                         "max block travel [m]", "rebound at [s]", "peak block force [N]",
+                         "peak edge force [N]", "broken bonds"],
+                        [[n, fmt(i["closure_error"]), fmt(i["momentum_error"]),
+                          fmt(i["max_displacement"]), fmt(i["rebound_time"]),
+                          fmt(i["peak_block_force"]), fmt(i["edge_force_peak"]),
+                          fmt(i["broken_bonds"])] for n, i in impacts.items()])
+    peak_rows = impact_peak_rows(summaries)
+    if peak_rows:
+        lines += ["", "## Impact: peak tension, single net vs compound (Figures 5 and 6)", ""]
+        lines += _table(["family", "single-net case", "peak total, single [N]",
+                         "peak total, compound [N]", "compound / single",
+                         "peak max, single [N]", "peak max, compound [N]", "compound / single"],
+                        [[r["family"], r["single"], fmt(r["single_peak_total"]),
+                          fmt(r["compound_peak_total"]), fmt(r["ratio_total"]),
+                          fmt(r["single_peak_max"]), fmt(r["compound_peak_max"]),
+                          fmt(r["ratio_max"])] for r in peak_rows])
     beams = {n: s for n, s in summaries.items() if s.get("beam")}
     for name, s in beams.items():
         lines += ["", f"## Beam check ({name})", ""]
@@ -271,7 +339,7 @@ def build(directory, expected=None, figures=True):
     summary = {"generator": "postprocess report", "cases": summaries, "missing": missing,
                "not_implemented": [n for n, s in summaries.items()
                                    if s["status"] == "not-implemented"],
-               "claims": claims,
+               "claims": claims, "impact_peaks": impact_peak_rows(summaries),
                "figures": {k: [os.path.relpath(p, directory) for p in v]
                            for k, v in written.items()}}
     write_text(os.path.join(directory, "summary.json"), json.dumps(summary, indent=2) + "\n")

@@ -1,0 +1,280 @@
+"""Block impact cases (paper, section 5): a rigid truncated cube (0.45 m, 44.5 kg, 10 m/s along
+-z, undamped, fix wirenet/rigidmesh) hits the centre of a hexagonal, square or compound panel.
+Deck: inputs/impact.in. Beyond the paper, every case gets:
+
+- the force on the edge supports (the posts) as a time series (edges.csv) and its peak;
+- an energy budget whose terms are each measured by their own mechanism (energy.csv,
+  case.json "energy"): block and net kinetic energy, gravity potential energy of both (from the
+  positions), elastic energy of the bonds (bond style energy tally), plastic work of the wires
+  (tallied in the wire-law evaluation), energy released by broken bonds (fix wirenet/bonds),
+  work of the local damping (fix wirenet/damping), work of the contact forces on the nodes
+  (fix wirenet/contactwork around fix wall/gran) and on the block (fix wirenet/rigidmesh), work
+  of the node-node contacts between compound layers (fix wirenet/contactwork pair).
+  Their sum must stay at its initial value; ``closure_error`` is the largest departure
+  relative to the initial energy;
+- a momentum balance: the change of the momentum of block and net equals the impulse of the
+  support reactions, of gravity (block and net) and of the damping forces (``momentum``);
+- broken bonds: count and locations (ruptures.csv, case.json "ruptures").
+"""
+
+import math
+import os
+import time
+
+import numpy as np
+
+from . import liggghts, punch, zone
+from .csvio import read_csv, write_csv
+from .datafile import read_data
+from .errors import PostprocessError
+from .meta import PanelInfo, read_json
+
+BLOCK = dict(side=0.45, mass=44.5, speed=10.0)
+ALPHA = 0.5            # local damping on the net nodes (paper, dynamic runs)
+ALPHA_RELAX = 0.7      # while the net settles under its weight before the impact
+GAP = 0.005            # clearance between the block and the highest node under it [m]
+G = 9.81
+ZONE_RADIUS = 1.0
+DT_SAFETY = 0.5        # as the punch cases: half the stable step with the true masses
+OUTPUT_INTERVAL = 2e-4   # s between rows of impact.csv / block.csv
+DUMP_INTERVAL = 2e-3     # s between bond dumps (zone forces)
+
+
+def _panel_options(kind, quick):
+    """wirenet-gen options; the box is raised so that a rebounding block stays inside it."""
+    if kind not in ("hex", "square", "compound"):
+        raise PostprocessError(f"impact: unknown panel '{kind}' (hex, square or compound)")
+    size = ["--width", 1.2, "--height", 1.2] if quick else []
+    return [kind, *size, "--zlo", -3.0, "--zhi", 3.0]
+
+
+class Setup:
+    """Panel and block files plus every number the deck needs."""
+
+    def __init__(self, workdir, panel, bending=0.05, quick=False, duration=None, relax=None,
+                 mass=BLOCK["mass"], side=BLOCK["side"], speed=BLOCK["speed"], alpha=ALPHA):
+        if not (mass > 0 and side > 0 and speed > 0):
+            raise PostprocessError(f"impact: mass, side and speed must be > 0 (got {mass}, "
+                                   f"{side}, {speed})")
+        if not 0 <= alpha < 1:
+            raise PostprocessError(f"impact: damping alpha must be in [0, 1) (got {alpha})")
+        os.makedirs(workdir, exist_ok=True)
+        self.panel, self.bending, self.quick = panel, bending, quick
+        self.mass, self.side, self.speed, self.alpha = mass, side, speed, alpha
+        options = _panel_options(panel, quick)
+        prefix = os.path.join(workdir, "panel")
+        self.data_path = liggghts.generate(options[0], prefix, *options[1:])
+        self.json_path = prefix + ".json"
+        self.stl = os.path.join(workdir, "block.stl")
+        liggghts.generate("shape truncated-cube", self.stl, "--side", side, "--mass", mass)
+        self.block = read_json(os.path.join(workdir, "block.json"))
+        self.meta = read_json(self.json_path)
+        data = read_data(self.data_path)
+        self.layers = 2 if self.meta.get("kind") == "compound" else 1
+        # the same stable step as the punch cases (bonds + the 1e9 N/m contact on the lightest
+        # node), halved
+        self.dt = DT_SAFETY * punch.stable_dt(data, bending, self.layers, platter=True)
+        _, self.node_r = punch.centre_node(data, self.meta)
+        self.node_masses = punch.node_masses(data)
+        self.duration = duration or (0.06 if quick else 1.0)
+        self.relax_time = relax if relax is not None else (0.01 if quick else 0.1)
+        self.steps = int(math.ceil(self.duration / self.dt))
+        self.relax_steps = int(math.ceil(self.relax_time / self.dt))
+        self.every = max(int(round(OUTPUT_INTERVAL / self.dt)), 1)
+        self.dump_every = self.every * max(int(round(DUMP_INTERVAL / OUTPUT_INTERVAL)), 1)
+
+    def variables(self):
+        inertia = np.asarray(self.block["inertia"], float)
+        half = self.meta["panel"]
+        centre = self.meta.get("centre", [0.0, 0.0, 0.0])
+        lowest = self.side / 2      # the generator's cube rests on a face; centroid at 0
+        v = dict(data=os.path.abspath(self.data_path), stl=os.path.abspath(self.stl),
+                 mass=repr(self.mass), ixx=repr(inertia[0, 0]), iyy=repr(inertia[1, 1]),
+                 izz=repr(inertia[2, 2]), ixy=repr(inertia[0, 1]), ixz=repr(inertia[0, 2]),
+                 iyz=repr(inertia[1, 2]), block_half=repr(lowest), gap=GAP,
+                 foot_r=repr(0.9 * self.side), v0=repr(self.speed), centre_x=repr(centre[0]),
+                 centre_y=repr(centre[1]), half_w=half["width"] / 2, half_h=half["height"] / 2,
+                 node_r=repr(self.node_r), layers=self.layers,
+                 curve=" ".join(f"{e!r} {s!r}" for e, s in punch.SW_CURVE),
+                 bending=self.bending, alpha=self.alpha, alpha_relax=ALPHA_RELAX, g=G,
+                 dt=repr(self.dt), relax_steps=self.relax_steps, steps=self.steps,
+                 every=self.every, dump_every=self.dump_every,
+                 zone_r=repr(ZONE_RADIUS + 0.2), out=".")
+        v.update(punch.WIRE)
+        v.update(punch.ROPE)
+        v.update(punch.CONTACT)
+        return v
+
+
+# ---------------------------------------------------------------------------------------------
+# reading the run
+
+COLUMNS = ("step", "time", "x", "y", "z", "vx", "vy", "vz", "force", "fx", "fy", "fz",
+           "ke_block", "pe_block", "w_contact_block", "ke_net", "pe_net", "e_elastic",
+           "w_plastic", "e_released", "broken", "w_damping", "w_contact_net", "w_contact_pair", "px_net",
+           "py_net", "pz_net", "jx_damp", "jy_damp", "jz_damp", "jx_contact", "jy_contact",
+           "jz_contact", "rx", "ry", "rz", "rx_mean", "ry_mean", "rz_mean", "force_mean")
+
+
+def read_impact(workdir):
+    """impact.csv without the comment line that fix print adds when it appends."""
+    path = os.path.join(workdir, "impact.csv")
+    clean = os.path.join(workdir, "impact_rows.csv")
+    with open(path) as src, open(clean, "w") as dst:
+        dst.writelines(line for line in src if not line.startswith("#"))
+    table = read_csv(clean, required=COLUMNS)
+    if len(table["step"]) < 2:
+        raise PostprocessError(f"{workdir}/impact.csv: fewer than two rows")
+    return table
+
+
+ENERGY_TERMS = ("ke_block", "ke_net", "pe_block", "pe_net", "e_elastic", "w_plastic",
+                "e_released", "damping", "contact", "contact_layers")
+
+
+def energy_budget(table):
+    """Per row: every term of the budget measured from the first row (potential energies as
+    changes, dissipations as positive amounts), their sum and the closure error relative to
+    the initial energy E0 = kinetic energy of block and net + elastic energy of the bonds."""
+    t = table
+    terms = {
+        "ke_block": t["ke_block"],
+        "ke_net": t["ke_net"],
+        "pe_block": t["pe_block"] - t["pe_block"][0],
+        "pe_net": t["pe_net"] - t["pe_net"][0],
+        "e_elastic": t["e_elastic"],
+        "w_plastic": t["w_plastic"] - t["w_plastic"][0],
+        "e_released": t["e_released"] - t["e_released"][0],
+        # work done by the damping / the contacts on block and nodes: their negatives are the
+        # energy they took out (contact: friction, plus the small spring energy of open contacts)
+        "damping": -(t["w_damping"] - t["w_damping"][0]),
+        "contact": -((t["w_contact_block"] - t["w_contact_block"][0]) +
+                     (t["w_contact_net"] - t["w_contact_net"][0])),
+        # node-node contacts between the layers of a compound panel (friction)
+        "contact_layers": -(t["w_contact_pair"] - t["w_contact_pair"][0]),
+    }
+    total = sum(terms[k] for k in ENERGY_TERMS)
+    e0 = float(total[0])
+    error = (total - e0) / e0
+    return terms, total, e0, error
+
+
+def momentum_balance(table, dt, every, mass, net_mass):
+    """Change of the momentum of block + net against the impulses of the support reactions,
+    gravity and the damping forces, per row; the error relative to the block's initial
+    momentum. Reactions are window means over ``every`` steps: impulse = mean x every x dt."""
+    t = table
+    p_block = mass * np.column_stack([t["vx"], t["vy"], t["vz"]])
+    p_net = np.column_stack([t["px_net"], t["py_net"], t["pz_net"]])
+    dp = (p_block - p_block[0]) + (p_net - p_net[0])
+    steps = t["step"] - t["step"][0]
+    means = np.column_stack([t["rx_mean"], t["ry_mean"], t["rz_mean"]])
+    window = np.r_[0.0, np.diff(steps)] * dt
+    j_react = np.cumsum(means * window[:, None], axis=0)
+    j_grav = np.zeros_like(dp)
+    j_grav[:, 2] = -(mass + net_mass) * G * steps * dt
+    j_damp = np.column_stack([t["jx_damp"], t["jy_damp"], t["jz_damp"]])
+    j_damp = j_damp - j_damp[0]
+    gap = dp - (j_react + j_grav + j_damp)
+    p0 = float(np.linalg.norm(p_block[0]))
+    return dict(dp=dp, dp_block=p_block - p_block[0], j_react=j_react, j_grav=j_grav,
+                j_damp=j_damp, gap=gap, error=np.linalg.norm(gap, axis=1) / p0, p0=p0)
+
+
+def read_ruptures(path, dt, families):
+    rows = punch.read_ruptures(path)
+    out = []
+    for step, a1, a2, btype, x, y, z, elong in rows:
+        out.append(dict(time=float(step) * dt, step=int(step), atom1=int(a1), atom2=int(a2),
+                        type=int(btype), family=families.get(int(btype), f"type{int(btype)}"),
+                        x=float(x), y=float(y), z=float(z), elongation=float(elong)))
+    return out
+
+
+# ---------------------------------------------------------------------------------------------
+# outputs
+
+def write_outputs(setup, case_dir, workdir, table):
+    """block.csv, edges.csv, energy.csv, momentum.csv, ruptures.csv, zone_forces.csv; returns
+    the facts for case.json."""
+    t = table
+    time_ = t["time"] - t["time"][0]
+    write_csv(os.path.join(case_dir, "block.csv"), ("time", "x", "y", "z", "vx", "vy", "vz",
+                                                    "force"),
+              zip(time_, t["x"], t["y"], t["z"], t["vx"], t["vy"], t["vz"], t["force_mean"]))
+    edge = np.sqrt(t["rx_mean"] ** 2 + t["ry_mean"] ** 2 + t["rz_mean"] ** 2)
+    write_csv(os.path.join(case_dir, "edges.csv"), ("time", "rx", "ry", "rz", "force"),
+              zip(time_, t["rx_mean"], t["ry_mean"], t["rz_mean"], edge))
+    terms, total, e0, error = energy_budget(t)
+    write_csv(os.path.join(case_dir, "energy.csv"),
+              ("time",) + ENERGY_TERMS + ("total", "closure_error"),
+              zip(time_, *(terms[k] for k in ENERGY_TERMS), total, error))
+    net_mass = float(np.sum(setup.node_masses))
+    mom = momentum_balance(t, setup.dt, setup.every, setup.mass, net_mass)
+    write_csv(os.path.join(case_dir, "momentum.csv"),
+              ("time", "dpz_block", "dpz_total", "jz_reactions", "jz_gravity", "jz_damping",
+               "error"),
+              zip(time_, mom["dp_block"][:, 2], mom["dp"][:, 2], mom["j_react"][:, 2],
+                  mom["j_grav"][:, 2], mom["j_damp"][:, 2], mom["error"]))
+    panel = PanelInfo(setup.json_path)
+    ruptures = read_ruptures(os.path.join(workdir, "ruptures.dump"), setup.dt, panel.families)
+    write_csv(os.path.join(case_dir, "ruptures.csv"),
+              ("time", "atom1", "atom2", "type", "family", "x", "y", "z", "elongation"),
+              [(r["time"], r["atom1"], r["atom2"], r["type"], r["family"], r["x"], r["y"],
+                r["z"], r["elongation"]) for r in ruptures])
+    times, names, totals, maxima, counts = zone.compute(
+        [os.path.join(workdir, "bonds.dump")], panel, ZONE_RADIUS, setup.dt)
+    times = times - t["step"][0] * setup.dt
+    disp = np.interp(times, time_, t["z"][0] - t["z"])
+    write_csv(os.path.join(case_dir, "zone_forces.csv"), zone.HEADER,
+              zone.rows(times, disp, names, totals, maxima, counts))
+
+    k_edge = int(np.argmax(edge))
+    k_force = int(np.argmax(t["force_mean"]))
+    k_low = int(np.argmin(t["z"]))
+    rebound = np.nonzero((t["vz"] > 0) & (np.arange(len(t["vz"])) > k_low))[0]
+    closure = dict(closure_error=float(np.max(np.abs(error))), initial_energy=e0,
+                   final={k: float(terms[k][-1]) for k in ENERGY_TERMS},
+                   at_lowest_point={k: float(terms[k][k_low]) for k in ENERGY_TERMS})
+    closure["final_error"] = float(error[-1])
+    momentum = dict(error=float(np.max(mom["error"])), initial_block_momentum=mom["p0"],
+                    final_error=float(mom["error"][-1]),
+                    final={"dpz_block": float(mom["dp_block"][-1, 2]),
+                           "dpz_total": float(mom["dp"][-1, 2]),
+                           "jz_reactions": float(mom["j_react"][-1, 2]),
+                           "jz_gravity": float(mom["j_grav"][-1, 2]),
+                           "jz_damping": float(mom["j_damp"][-1, 2])})
+    return dict(
+        energy=closure, momentum=momentum,
+        edge_force_peak=float(edge[k_edge]), time_of_edge_force_peak=float(time_[k_edge]),
+        edge_force_peak_z=float(np.max(np.abs(t["rz_mean"]))),
+        peak_block_force=float(t["force_mean"][k_force]),
+        time_of_peak_block_force=float(time_[k_force]),
+        max_displacement=float(t["z"][0] - t["z"][k_low]), time_of_max_displacement=float(time_[k_low]),
+        rebound_time=float(time_[rebound[0]]) if rebound.size else None,
+        final_block_velocity=[float(t["vx"][-1]), float(t["vy"][-1]), float(t["vz"][-1])],
+        broken_bonds=len(ruptures),
+        ruptures=ruptures[:200], ruptures_listed=min(len(ruptures), 200),
+        first_rupture=ruptures[0]["time"] if ruptures else None,
+        families=sorted(set(panel.families.values())))
+
+
+def run_case(case_dir, panel, bending=0.05, quick=False, np_=1, **setup_options):
+    """One impact case; returns the facts for case.json."""
+    setup = Setup(os.path.join(case_dir, "setup"), panel, bending, quick, **setup_options)
+    workdir = os.path.join(case_dir, "run")
+    start = time.time()
+    wall = liggghts.run(liggghts.INPUTS / "impact.in", workdir, setup.variables(), np=np_,
+                        total_steps=setup.relax_steps + setup.steps, label=f"impact {panel}",
+                        dt=setup.dt)
+    table = read_impact(workdir)
+    facts = write_outputs(setup, case_dir, workdir, table)
+    facts.update(panel=panel, bending=bending, block=dict(mass=setup.mass, side=setup.side,
+                                                          speed=setup.speed,
+                                                          inertia=setup.block["inertia"]),
+                 damping=setup.alpha, dt=setup.dt, steps=setup.steps,
+                 duration=setup.duration, relax_time=setup.relax_time,
+                 relax_steps=setup.relax_steps, nodes=int(len(setup.node_masses)),
+                 net_mass=float(np.sum(setup.node_masses)), run_wall_time=wall,
+                 post_wall_time=time.time() - start - wall)
+    return facts

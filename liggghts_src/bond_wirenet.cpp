@@ -150,18 +150,34 @@ void BondWirenet::report_types()
 
 void BondWirenet::build_list()
 {
-  list.clear();
+  wire_list.clear();
+  beam_list.clear();
   const int nlocal = atom->nlocal;
   const int *num_bond = atom->num_bond;
   int **bond_atom = atom->bond_atom;
   int **bond_type = atom->bond_type;
+  double **x = atom->x;
   for (int i = 0; i < nlocal; i++)
     for (int m = 0; m < num_bond[i]; m++) {
       const int type = bond_type[i][m];
       if (type <= 0) continue;
       const int j = domain->closest_image(i, atom->map(bond_atom[i][m]));
-      Entry e = { i, j, type, m, history->record(i, m) };
-      list.push_back(e);
+      const Entry e = { i, j, type, m, history->record(i, m) };
+      if (wires[type]) {
+        wire_list.push_back(e);
+        continue;
+      }
+      // a beam record is set at the bond's first run (the lists are built in compute()) and
+      // never changes afterwards, so the force loop can work on a copy
+      if (e.h[FixWirenetBonds::L0] == 0.0) {
+        const double d[3] = { x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2] };
+        init_record(e, sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+      }
+      BeamBond b;
+      beams[type]->prepare(e.h, b);
+      b.i = i;
+      b.j = j;
+      beam_list.push_back(b);
     }
   list_version = history->list_version();
 }
@@ -211,24 +227,31 @@ inline void BondWirenet::compute_wire(const Entry &e, double dx, double dy, doub
   }
 }
 
-inline void BondWirenet::compute_beam(const Entry &e, int eflag)
+// The beam bonds, on flat views of the per-atom arrays (LAMMPS' 2d arrays are one block each):
+// no row-pointer loads in the loop.
+template <int EVFLAG>
+void BondWirenet::compute_beams(int eflag)
 {
-  double **x = atom->x;
-  BeamResult out;
-  beams[e.type]->evaluate(e.h, x[e.i], x[e.j], history->rotation(e.i), history->rotation(e.j), out,
-                          eflag != 0);
-  double **f = atom->f, **t = atom->torque;
-  for (int d = 0; d < 3; d++) {
-    f[e.i][d] += out.force_i[d];
-    f[e.j][d] -= out.force_i[d];
-    t[e.i][d] += out.torque_i[d];
-    t[e.j][d] += out.torque_j[d];
-  }
-  if (evflag) {
-    // energy is exact; the virial holds the axial part only (the bond force is not central)
-    const double dx = x[e.i][0] - x[e.j][0], dy = x[e.i][1] - x[e.j][1], dz = x[e.i][2] - x[e.j][2];
-    const double r = sqrt(dx * dx + dy * dy + dz * dz);
-    ev_tally(e.i, e.j, atom->nlocal, force->newton_bond, eflag ? out.energy : 0.0, -out.axial / r, dx, dy, dz);
+  const double *x = atom->x[0], *rot = history->rotations();
+  double *f = atom->f[0], *t = atom->torque[0];
+  const int nlocal = atom->nlocal, newton_bond = force->newton_bond;
+  for (const BeamBond &b : beam_list) {
+    const double *xi = x + 3 * b.i, *xj = x + 3 * b.j;
+    BeamResult out;
+    BeamLaw::load<EVFLAG != 0>(b, xi, xj, rot + 9 * b.i, rot + 9 * b.j, out);
+    double *fi = f + 3 * b.i, *fj = f + 3 * b.j, *ti = t + 3 * b.i, *tj = t + 3 * b.j;
+    for (int d = 0; d < 3; d++) {
+      fi[d] += out.force_i[d];
+      fj[d] -= out.force_i[d];
+      ti[d] += out.torque_i[d];
+      tj[d] += out.torque_j[d];
+    }
+    if (EVFLAG) {
+      // energy is exact; the virial holds the axial part only (the bond force is not central)
+      const double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
+      const double r = sqrt(dx * dx + dy * dy + dz * dz);
+      ev_tally(b.i, b.j, nlocal, newton_bond, eflag ? out.energy : 0.0, -out.axial / r, dx, dy, dz);
+    }
   }
 }
 
@@ -241,17 +264,19 @@ void BondWirenet::compute(int eflag, int vflag)
 
   double **x = atom->x;
   plastic_work = 0.0;
-  for (const Entry &e : list) {
+  for (const Entry &e : wire_list) {
     const double l0 = e.h[FixWirenetBonds::L0];
     if (l0 < 0.0) continue;  // broken earlier, awaiting removal
-    if (l0 > 0.0 && !wires[e.type]) { compute_beam(e, eflag); continue; }
     const double dx = x[e.j][0] - x[e.i][0];
     const double dy = x[e.j][1] - x[e.i][1];
     const double dz = x[e.j][2] - x[e.i][2];
     const double r = sqrt(dx * dx + dy * dy + dz * dz);
     if (l0 == 0.0) init_record(e, r);
-    if (wires[e.type]) compute_wire(e, dx, dy, dz, r, eflag);
-    else compute_beam(e, eflag);
+    compute_wire(e, dx, dy, dz, r, eflag);
+  }
+  if (!beam_list.empty()) {
+    if (evflag) compute_beams<1>(eflag);
+    else compute_beams<0>(eflag);
   }
   if (plastic_work != 0.0) history->add_plastic_work(plastic_work);
   if (update->setupflag) report_timestep();
@@ -263,21 +288,20 @@ void BondWirenet::report_timestep()
 {
   const double *rmass = atom->rmass, *radius = atom->radius;
   double w2_trans = 0.0, w2_rot = 0.0;
-  for (const Entry &e : list) {
-    const double l0 = e.h[FixWirenetBonds::L0];
-    if (l0 <= 0.0) continue;
-    const double inv_m = 1.0 / rmass[e.i] + 1.0 / rmass[e.j];
-    if (wires[e.type]) {
-      w2_trans = fmax(w2_trans, 2.0 * e.h[W_KU] * inv_m);
-    } else {
-      const BeamLaw::Stiffness k = beams[e.type]->stiffness(l0);
-      const double kt = fmax(k.axial, 4.0 * k.shear_coupling / (l0 * l0));
-      const double kr = k.bending + k.shear_coupling + fabs(k.shear_coupling - k.bending) + 2.0 * k.twist;
-      const double inv_i = 1.0 / (0.4 * rmass[e.i] * radius[e.i] * radius[e.i]) +
-                           1.0 / (0.4 * rmass[e.j] * radius[e.j] * radius[e.j]);
-      w2_trans = fmax(w2_trans, 2.0 * kt * inv_m);
-      w2_rot = fmax(w2_rot, 2.0 * kr * inv_i);
-    }
+  for (const Entry &e : wire_list) {
+    if (e.h[FixWirenetBonds::L0] <= 0.0) continue;
+    w2_trans = fmax(w2_trans, 2.0 * e.h[W_KU] * (1.0 / rmass[e.i] + 1.0 / rmass[e.j]));
+  }
+  for (const BeamBond &b : beam_list) {
+    // axial or shear (4 Cs / l0^2) translation; rotation: the larger eigenvalue of the end
+    // moments, Kb + Cs + |Cs - Kb|, plus twist
+    const double kt = fmax(b.ka, 2.0 * b.kf / (b.l0 * b.l0));
+    const double kr = b.kp + fabs(b.km) + 2.0 * b.kt;
+    const double inv_m = 1.0 / rmass[b.i] + 1.0 / rmass[b.j];
+    const double inv_i = 1.0 / (0.4 * rmass[b.i] * radius[b.i] * radius[b.i]) +
+                         1.0 / (0.4 * rmass[b.j] * radius[b.j] * radius[b.j]);
+    w2_trans = fmax(w2_trans, 2.0 * kt * inv_m);
+    w2_rot = fmax(w2_rot, 2.0 * kr * inv_i);
   }
   double local[2] = { w2_trans, w2_rot }, global[2];
   MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, world);
@@ -364,5 +388,6 @@ void BondWirenet::read_restart(FILE *fp)
 
 double BondWirenet::memory_usage()
 {
-  return Bond::memory_usage() + (double)list.capacity() * sizeof(Entry);
+  return Bond::memory_usage() + (double)wire_list.capacity() * sizeof(Entry) +
+         (double)beam_list.capacity() * sizeof(BeamBond);
 }

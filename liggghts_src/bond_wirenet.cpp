@@ -22,7 +22,8 @@ using namespace WireNet;
 
 static const char HISTORY_FIX_ID[] = "wirenet_bonds";
 
-BondWirenet::BondWirenet(LAMMPS *lmp) : Bond(lmp), list_version(-1), history(NULL), any_beam(0), plastic_work(0.0) {}
+BondWirenet::BondWirenet(LAMMPS *lmp) :
+  Bond(lmp), nbeam(0), list_version(-1), history(NULL), any_beam(0), plastic_work(0.0) {}
 
 BondWirenet::~BondWirenet()
 {
@@ -157,6 +158,7 @@ void BondWirenet::build_list()
   int **bond_atom = atom->bond_atom;
   int **bond_type = atom->bond_type;
   double **x = atom->x;
+  nbeam = 0;
   for (int i = 0; i < nlocal; i++)
     for (int m = 0; m < num_bond[i]; m++) {
       const int type = bond_type[i][m];
@@ -173,12 +175,21 @@ void BondWirenet::build_list()
         const double d[3] = { x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2] };
         init_record(e, sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
       }
-      BeamBond b;
+      BeamConst<double> b;
       beams[type]->prepare(e.h, b);
-      b.i = i;
-      b.j = j;
-      beam_list.push_back(b);
+      if (nbeam % 2 == 0) beam_list.emplace_back();
+      BeamPair &p = beam_list.back();
+      const int k = nbeam++ % 2;
+      set_lane(p.c, k, b);
+      p.i[k] = i;
+      p.j[k] = j;
     }
+  if (nbeam % 2) {
+    BeamPair &p = beam_list.back();
+    set_lane(p.c, 1, lane(p.c, 0));
+    p.i[1] = p.i[0];
+    p.j[1] = p.j[0];
+  }
   list_version = history->list_version();
 }
 
@@ -227,30 +238,80 @@ inline void BondWirenet::compute_wire(const Entry &e, double dx, double dy, doub
   }
 }
 
-// The beam bonds, on flat views of the per-atom arrays (LAMMPS' 2d arrays are one block each):
-// no row-pointer loads in the loop.
+namespace {
+
+inline double at(double v, int) { return v; }
+inline double at(Lanes v, int k) { return v[k]; }
+
+// Add lane k of a bond load to nodes i and j (flat force and torque arrays).
+template <typename T>
+inline void apply(const BeamLoad<T> &o, int k, int i, int j, double *f, double *t)
+{
+  double *fi = f + 3 * i, *fj = f + 3 * j, *ti = t + 3 * i, *tj = t + 3 * j;
+  for (int d = 0; d < 3; d++) {
+    const double fd = at(o.force_i[d], k);
+    fi[d] += fd;
+    fj[d] -= fd;
+    ti[d] += at(o.torque_i[d], k);
+    tj[d] += at(o.torque_j[d], k);
+  }
+}
+
+}  // namespace
+
+// The beam bonds, a pair per step of the loop, on flat views of the per-atom arrays (LAMMPS' 2d
+// arrays are one block each). Bonds bent beyond the series, and all bonds when energy or virial
+// are tallied, go one at a time.
 template <int EVFLAG>
 void BondWirenet::compute_beams(int eflag)
 {
   const double *x = atom->x[0], *rot = history->rotations();
   double *f = atom->f[0], *t = atom->torque[0];
   const int nlocal = atom->nlocal, newton_bond = force->newton_bond;
-  for (const BeamBond &b : beam_list) {
-    const double *xi = x + 3 * b.i, *xj = x + 3 * b.j;
-    BeamResult out;
-    BeamLaw::load<EVFLAG != 0>(b, xi, xj, rot + 9 * b.i, rot + 9 * b.j, out);
-    double *fi = f + 3 * b.i, *fj = f + 3 * b.j, *ti = t + 3 * b.i, *tj = t + 3 * b.j;
-    for (int d = 0; d < 3; d++) {
-      fi[d] += out.force_i[d];
-      fj[d] -= out.force_i[d];
-      ti[d] += out.torque_i[d];
-      tj[d] += out.torque_j[d];
+  const int npair = beam_list.size();
+  for (int q = 0; q < npair; q++) {
+    const BeamPair &p = beam_list[q];
+    const int nb = q < npair - 1 ? 2 : nbeam - 2 * q;  // bonds to apply: the last lane may be a copy
+    if constexpr (!EVFLAG) {
+      const double *xi0 = x + 3 * p.i[0], *xi1 = x + 3 * p.i[1];
+      const double *xj0 = x + 3 * p.j[0], *xj1 = x + 3 * p.j[1];
+      const double *ri0 = rot + 9 * p.i[0], *ri1 = rot + 9 * p.i[1];
+      const double *rj0 = rot + 9 * p.j[0], *rj1 = rot + 9 * p.j[1];
+      BeamNodes<Lanes> n;
+      for (int c = 0; c < 3; c++) {
+        n.xi[c] = Lanes{ xi0[c], xi1[c] };
+        n.xj[c] = Lanes{ xj0[c], xj1[c] };
+      }
+      for (int c = 0; c < 9; c++) {
+        n.ri[c] = Lanes{ ri0[c], ri1[c] };
+        n.rj[c] = Lanes{ rj0[c], rj1[c] };
+      }
+      BeamLoad<Lanes> out;
+      if (BeamLaw::load<false>(p.c, n, out)) {
+        for (int k = 0; k < nb; k++) apply(out, k, p.i[k], p.j[k], f, t);
+        continue;
+      }
     }
-    if (EVFLAG) {
-      // energy is exact; the virial holds the axial part only (the bond force is not central)
-      const double dx = xi[0] - xj[0], dy = xi[1] - xj[1], dz = xi[2] - xj[2];
-      const double r = sqrt(dx * dx + dy * dy + dz * dz);
-      ev_tally(b.i, b.j, nlocal, newton_bond, eflag ? out.energy : 0.0, -out.axial / r, dx, dy, dz);
+    for (int k = 0; k < nb; k++) {
+      const int i = p.i[k], j = p.j[k];
+      BeamNodes<double> n;
+      for (int c = 0; c < 3; c++) {
+        n.xi[c] = x[3 * i + c];
+        n.xj[c] = x[3 * j + c];
+      }
+      for (int c = 0; c < 9; c++) {
+        n.ri[c] = rot[9 * i + c];
+        n.rj[c] = rot[9 * j + c];
+      }
+      BeamResult out;
+      BeamLaw::load<EVFLAG != 0>(lane(p.c, k), n, out);
+      apply(out, 0, i, j, f, t);
+      if (EVFLAG) {
+        // energy is exact; the virial holds the axial part only (the bond force is not central)
+        const double dx = n.xi[0] - n.xj[0], dy = n.xi[1] - n.xj[1], dz = n.xi[2] - n.xj[2];
+        const double r = sqrt(dx * dx + dy * dy + dz * dz);
+        ev_tally(i, j, nlocal, newton_bond, eflag ? out.energy : 0.0, -out.axial / r, dx, dy, dz);
+      }
     }
   }
 }
@@ -292,17 +353,21 @@ void BondWirenet::report_timestep()
     if (e.h[FixWirenetBonds::L0] <= 0.0) continue;
     w2_trans = fmax(w2_trans, 2.0 * e.h[W_KU] * (1.0 / rmass[e.i] + 1.0 / rmass[e.j]));
   }
-  for (const BeamBond &b : beam_list) {
-    // axial or shear (4 Cs / l0^2) translation; rotation: the larger eigenvalue of the end
-    // moments, Kb + Cs + |Cs - Kb|, plus twist
-    const double kt = fmax(b.ka, 2.0 * b.kf / (b.l0 * b.l0));
-    const double kr = b.kp + fabs(b.km) + 2.0 * b.kt;
-    const double inv_m = 1.0 / rmass[b.i] + 1.0 / rmass[b.j];
-    const double inv_i = 1.0 / (0.4 * rmass[b.i] * radius[b.i] * radius[b.i]) +
-                         1.0 / (0.4 * rmass[b.j] * radius[b.j] * radius[b.j]);
-    w2_trans = fmax(w2_trans, 2.0 * kt * inv_m);
-    w2_rot = fmax(w2_rot, 2.0 * kr * inv_i);
-  }
+  for (int q = 0; q < (int)beam_list.size(); q++)
+    for (int k = 0; k < 2 && 2 * q + k < nbeam; k++) {
+      const BeamPair &p = beam_list[q];
+      const BeamConst<double> b = lane(p.c, k);
+      const int i = p.i[k], j = p.j[k];
+      // axial or shear (4 Cs / l0^2) translation; rotation: the larger eigenvalue of the end
+      // moments, Kb + Cs + |Cs - Kb|, plus twist
+      const double kt = fmax(b.ka, 2.0 * b.kf / (b.l0 * b.l0));
+      const double kr = b.kp + fabs(b.km) + 2.0 * b.kt;
+      const double inv_m = 1.0 / rmass[i] + 1.0 / rmass[j];
+      const double inv_i = 1.0 / (0.4 * rmass[i] * radius[i] * radius[i]) +
+                           1.0 / (0.4 * rmass[j] * radius[j] * radius[j]);
+      w2_trans = fmax(w2_trans, 2.0 * kt * inv_m);
+      w2_rot = fmax(w2_rot, 2.0 * kr * inv_i);
+    }
   double local[2] = { w2_trans, w2_rot }, global[2];
   MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, world);
   if (comm->me != 0 || (global[0] == 0.0 && global[1] == 0.0)) return;
@@ -389,5 +454,5 @@ void BondWirenet::read_restart(FILE *fp)
 double BondWirenet::memory_usage()
 {
   return Bond::memory_usage() + (double)wire_list.capacity() * sizeof(Entry) +
-         (double)beam_list.capacity() * sizeof(BeamBond);
+         (double)beam_list.capacity() * sizeof(BeamPair);
 }

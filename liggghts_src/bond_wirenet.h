@@ -45,10 +45,13 @@ class BondWirenet : public Bond {
  private:
   // The intact local bonds, rebuilt whenever atoms or bond slots change: wire bonds as entries
   // into the history, beam bonds (records set at their first run, constant afterwards) as
-  // packed copies for the force loop.
+  // copies of their constants, two bonds per entry, one per SIMD lane. An odd count repeats the
+  // last bond in lane 1 of the last pair: computed, not applied.
   struct Entry { int i, j, type, m; double *h; };
+  struct BeamPair { WireNet::BeamConst<WireNet::Lanes> c; int i[2], j[2]; };
   std::vector<Entry> wire_list;
-  std::vector<WireNet::BeamBond> beam_list;
+  std::vector<BeamPair> beam_list;
+  int nbeam;  // beam bonds in beam_list
   long list_version;
   class FixWirenetBonds *history;
 

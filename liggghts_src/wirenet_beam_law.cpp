@@ -86,7 +86,7 @@ void BeamLaw::init_bond(double *h, const Vector3d &xi, const Vector3d &xj, const
   store3(h + B_PJ, rj.transpose() * n);
 }
 
-void BeamLaw::prepare(const double *h, BeamBond &b) const
+void BeamLaw::prepare(const double *h, BeamConst<double> &b) const
 {
   const double l0 = h[B_L0];
   const Stiffness k = stiffness(l0);
@@ -97,18 +97,63 @@ void BeamLaw::prepare(const double *h, BeamBond &b) const
   b.kf = 2.0 * k.shear_coupling;
   b.kt = k.twist;
   for (int c = 0; c < 3; c++) {
-    b.d[c] = Ends{ h[B_DI + c], h[B_DJ + c] };
-    b.p[c] = Ends{ h[B_PI + c], h[B_PJ + c] };
+    b.di[c] = h[B_DI + c];
+    b.dj[c] = h[B_DJ + c];
+    b.pi[c] = h[B_PI + c];
+    b.pj[c] = h[B_PJ + c];
+  }
+}
+
+BeamConst<double> lane(const BeamConst<Lanes> &p, int k)
+{
+  BeamConst<double> b;
+  b.l0 = p.l0[k];
+  b.ka = p.ka[k];
+  b.kp = p.kp[k];
+  b.km = p.km[k];
+  b.kf = p.kf[k];
+  b.kt = p.kt[k];
+  for (int c = 0; c < 3; c++) {
+    b.di[c] = p.di[c][k];
+    b.dj[c] = p.dj[c][k];
+    b.pi[c] = p.pi[c][k];
+    b.pj[c] = p.pj[c][k];
+  }
+  return b;
+}
+
+void set_lane(BeamConst<Lanes> &p, int k, const BeamConst<double> &b)
+{
+  p.l0[k] = b.l0;
+  p.ka[k] = b.ka;
+  p.kp[k] = b.kp;
+  p.km[k] = b.km;
+  p.kf[k] = b.kf;
+  p.kt[k] = b.kt;
+  for (int c = 0; c < 3; c++) {
+    p.di[c][k] = b.di[c];
+    p.dj[c][k] = b.dj[c];
+    p.pi[c][k] = b.pi[c];
+    p.pj[c][k] = b.pj[c];
   }
 }
 
 void BeamLaw::evaluate(const double *h, const double *xi, const double *xj, const double *ri,
                        const double *rj, BeamResult &out, bool report) const
 {
-  BeamBond b;
+  BeamConst<double> b;
   prepare(h, b);
-  if (report) load<true>(b, xi, xj, ri, rj, out);
-  else load<false>(b, xi, xj, ri, rj, out);
+  BeamNodes<double> n;
+  for (int c = 0; c < 3; c++) {
+    n.xi[c] = xi[c];
+    n.xj[c] = xj[c];
+  }
+  for (int c = 0; c < 9; c++) {
+    n.ri[c] = ri[c];
+    n.rj[c] = rj[c];
+  }
+  if (report) load<true>(b, n, out);
+  else load<false>(b, n, out);
 }
 
 }  // namespace WireNet

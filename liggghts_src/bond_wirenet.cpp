@@ -22,7 +22,8 @@ using namespace WireNet;
 
 static const char HISTORY_FIX_ID[] = "wirenet_bonds";
 
-BondWirenet::BondWirenet(LAMMPS *lmp) : Bond(lmp), list_version(-1), history(NULL), any_beam(0), plastic_work(0.0) {}
+BondWirenet::BondWirenet(LAMMPS *lmp) :
+  Bond(lmp), nbeam(0), list_version(-1), history(NULL), any_beam(0), plastic_work(0.0) {}
 
 BondWirenet::~BondWirenet()
 {
@@ -150,19 +151,45 @@ void BondWirenet::report_types()
 
 void BondWirenet::build_list()
 {
-  list.clear();
+  wire_list.clear();
+  beam_list.clear();
   const int nlocal = atom->nlocal;
   const int *num_bond = atom->num_bond;
   int **bond_atom = atom->bond_atom;
   int **bond_type = atom->bond_type;
+  double **x = atom->x;
+  nbeam = 0;
   for (int i = 0; i < nlocal; i++)
     for (int m = 0; m < num_bond[i]; m++) {
       const int type = bond_type[i][m];
       if (type <= 0) continue;
       const int j = domain->closest_image(i, atom->map(bond_atom[i][m]));
-      Entry e = { i, j, type, m, history->record(i, m) };
-      list.push_back(e);
+      const Entry e = { i, j, type, m, history->record(i, m) };
+      if (wires[type]) {
+        wire_list.push_back(e);
+        continue;
+      }
+      // a beam record is set at the bond's first run (the lists are built in compute()) and
+      // never changes afterwards, so the force loop can work on a copy
+      if (e.h[FixWirenetBonds::L0] == 0.0) {
+        const double d[3] = { x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2] };
+        init_record(e, sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+      }
+      BeamConst<double> b;
+      beams[type]->prepare(e.h, b);
+      if (nbeam % 2 == 0) beam_list.emplace_back();
+      BeamPair &p = beam_list.back();
+      const int k = nbeam++ % 2;
+      set_lane(p.c, k, b);
+      p.i[k] = i;
+      p.j[k] = j;
     }
+  if (nbeam % 2) {
+    BeamPair &p = beam_list.back();
+    set_lane(p.c, 1, lane(p.c, 0));
+    p.i[1] = p.i[0];
+    p.j[1] = p.j[0];
+  }
   list_version = history->list_version();
 }
 
@@ -211,24 +238,81 @@ inline void BondWirenet::compute_wire(const Entry &e, double dx, double dy, doub
   }
 }
 
-inline void BondWirenet::compute_beam(const Entry &e, int eflag)
+namespace {
+
+inline double at(double v, int) { return v; }
+inline double at(Lanes v, int k) { return v[k]; }
+
+// Add lane k of a bond load to nodes i and j (flat force and torque arrays).
+template <typename T>
+inline void apply(const BeamLoad<T> &o, int k, int i, int j, double *f, double *t)
 {
-  double **x = atom->x;
-  BeamResult out;
-  beams[e.type]->evaluate(e.h, x[e.i], x[e.j], history->rotation(e.i), history->rotation(e.j), out,
-                          eflag != 0);
-  double **f = atom->f, **t = atom->torque;
+  double *fi = f + 3 * i, *fj = f + 3 * j, *ti = t + 3 * i, *tj = t + 3 * j;
   for (int d = 0; d < 3; d++) {
-    f[e.i][d] += out.force_i[d];
-    f[e.j][d] -= out.force_i[d];
-    t[e.i][d] += out.torque_i[d];
-    t[e.j][d] += out.torque_j[d];
+    const double fd = at(o.force_i[d], k);
+    fi[d] += fd;
+    fj[d] -= fd;
+    ti[d] += at(o.torque_i[d], k);
+    tj[d] += at(o.torque_j[d], k);
   }
-  if (evflag) {
-    // energy is exact; the virial holds the axial part only (the bond force is not central)
-    const double dx = x[e.i][0] - x[e.j][0], dy = x[e.i][1] - x[e.j][1], dz = x[e.i][2] - x[e.j][2];
-    const double r = sqrt(dx * dx + dy * dy + dz * dz);
-    ev_tally(e.i, e.j, atom->nlocal, force->newton_bond, eflag ? out.energy : 0.0, -out.axial / r, dx, dy, dz);
+}
+
+}  // namespace
+
+// The beam bonds, a pair per step of the loop, on flat views of the per-atom arrays (LAMMPS' 2d
+// arrays are one block each). Bonds bent beyond the series, and all bonds when energy or virial
+// are tallied, go one at a time.
+template <int EVFLAG>
+void BondWirenet::compute_beams(int eflag)
+{
+  const double *x = atom->x[0], *rot = history->rotations();
+  double *f = atom->f[0], *t = atom->torque[0];
+  const int nlocal = atom->nlocal, newton_bond = force->newton_bond;
+  const int npair = beam_list.size();
+  for (int q = 0; q < npair; q++) {
+    const BeamPair &p = beam_list[q];
+    const int nb = q < npair - 1 ? 2 : nbeam - 2 * q;  // bonds to apply: the last lane may be a copy
+    if constexpr (!EVFLAG) {
+      const double *xi0 = x + 3 * p.i[0], *xi1 = x + 3 * p.i[1];
+      const double *xj0 = x + 3 * p.j[0], *xj1 = x + 3 * p.j[1];
+      const double *ri0 = rot + 9 * p.i[0], *ri1 = rot + 9 * p.i[1];
+      const double *rj0 = rot + 9 * p.j[0], *rj1 = rot + 9 * p.j[1];
+      BeamNodes<Lanes> n;
+      for (int c = 0; c < 3; c++) {
+        n.xi[c] = Lanes{ xi0[c], xi1[c] };
+        n.xj[c] = Lanes{ xj0[c], xj1[c] };
+      }
+      for (int c = 0; c < 9; c++) {
+        n.ri[c] = Lanes{ ri0[c], ri1[c] };
+        n.rj[c] = Lanes{ rj0[c], rj1[c] };
+      }
+      BeamLoad<Lanes> out;
+      if (BeamLaw::load<false>(p.c, n, out)) {
+        for (int k = 0; k < nb; k++) apply(out, k, p.i[k], p.j[k], f, t);
+        continue;
+      }
+    }
+    for (int k = 0; k < nb; k++) {
+      const int i = p.i[k], j = p.j[k];
+      BeamNodes<double> n;
+      for (int c = 0; c < 3; c++) {
+        n.xi[c] = x[3 * i + c];
+        n.xj[c] = x[3 * j + c];
+      }
+      for (int c = 0; c < 9; c++) {
+        n.ri[c] = rot[9 * i + c];
+        n.rj[c] = rot[9 * j + c];
+      }
+      BeamResult out;
+      BeamLaw::load<EVFLAG != 0>(lane(p.c, k), n, out);
+      apply(out, 0, i, j, f, t);
+      if (EVFLAG) {
+        // energy is exact; the virial holds the axial part only (the bond force is not central)
+        const double dx = n.xi[0] - n.xj[0], dy = n.xi[1] - n.xj[1], dz = n.xi[2] - n.xj[2];
+        const double r = sqrt(dx * dx + dy * dy + dz * dz);
+        ev_tally(i, j, nlocal, newton_bond, eflag ? out.energy : 0.0, -out.axial / r, dx, dy, dz);
+      }
+    }
   }
 }
 
@@ -241,17 +325,19 @@ void BondWirenet::compute(int eflag, int vflag)
 
   double **x = atom->x;
   plastic_work = 0.0;
-  for (const Entry &e : list) {
+  for (const Entry &e : wire_list) {
     const double l0 = e.h[FixWirenetBonds::L0];
     if (l0 < 0.0) continue;  // broken earlier, awaiting removal
-    if (l0 > 0.0 && !wires[e.type]) { compute_beam(e, eflag); continue; }
     const double dx = x[e.j][0] - x[e.i][0];
     const double dy = x[e.j][1] - x[e.i][1];
     const double dz = x[e.j][2] - x[e.i][2];
     const double r = sqrt(dx * dx + dy * dy + dz * dz);
     if (l0 == 0.0) init_record(e, r);
-    if (wires[e.type]) compute_wire(e, dx, dy, dz, r, eflag);
-    else compute_beam(e, eflag);
+    compute_wire(e, dx, dy, dz, r, eflag);
+  }
+  if (!beam_list.empty()) {
+    if (evflag) compute_beams<1>(eflag);
+    else compute_beams<0>(eflag);
   }
   if (plastic_work != 0.0) history->add_plastic_work(plastic_work);
   if (update->setupflag) report_timestep();
@@ -263,22 +349,25 @@ void BondWirenet::report_timestep()
 {
   const double *rmass = atom->rmass, *radius = atom->radius;
   double w2_trans = 0.0, w2_rot = 0.0;
-  for (const Entry &e : list) {
-    const double l0 = e.h[FixWirenetBonds::L0];
-    if (l0 <= 0.0) continue;
-    const double inv_m = 1.0 / rmass[e.i] + 1.0 / rmass[e.j];
-    if (wires[e.type]) {
-      w2_trans = fmax(w2_trans, 2.0 * e.h[W_KU] * inv_m);
-    } else {
-      const BeamLaw::Stiffness k = beams[e.type]->stiffness(l0);
-      const double kt = fmax(k.axial, 4.0 * k.shear_coupling / (l0 * l0));
-      const double kr = k.bending + k.shear_coupling + fabs(k.shear_coupling - k.bending) + 2.0 * k.twist;
-      const double inv_i = 1.0 / (0.4 * rmass[e.i] * radius[e.i] * radius[e.i]) +
-                           1.0 / (0.4 * rmass[e.j] * radius[e.j] * radius[e.j]);
+  for (const Entry &e : wire_list) {
+    if (e.h[FixWirenetBonds::L0] <= 0.0) continue;
+    w2_trans = fmax(w2_trans, 2.0 * e.h[W_KU] * (1.0 / rmass[e.i] + 1.0 / rmass[e.j]));
+  }
+  for (int q = 0; q < (int)beam_list.size(); q++)
+    for (int k = 0; k < 2 && 2 * q + k < nbeam; k++) {
+      const BeamPair &p = beam_list[q];
+      const BeamConst<double> b = lane(p.c, k);
+      const int i = p.i[k], j = p.j[k];
+      // axial or shear (4 Cs / l0^2) translation; rotation: the larger eigenvalue of the end
+      // moments, Kb + Cs + |Cs - Kb|, plus twist
+      const double kt = fmax(b.ka, 2.0 * b.kf / (b.l0 * b.l0));
+      const double kr = b.kp + fabs(b.km) + 2.0 * b.kt;
+      const double inv_m = 1.0 / rmass[i] + 1.0 / rmass[j];
+      const double inv_i = 1.0 / (0.4 * rmass[i] * radius[i] * radius[i]) +
+                           1.0 / (0.4 * rmass[j] * radius[j] * radius[j]);
       w2_trans = fmax(w2_trans, 2.0 * kt * inv_m);
       w2_rot = fmax(w2_rot, 2.0 * kr * inv_i);
     }
-  }
   double local[2] = { w2_trans, w2_rot }, global[2];
   MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, world);
   if (comm->me != 0 || (global[0] == 0.0 && global[1] == 0.0)) return;
@@ -364,5 +453,6 @@ void BondWirenet::read_restart(FILE *fp)
 
 double BondWirenet::memory_usage()
 {
-  return Bond::memory_usage() + (double)list.capacity() * sizeof(Entry);
+  return Bond::memory_usage() + (double)wire_list.capacity() * sizeof(Entry) +
+         (double)beam_list.capacity() * sizeof(BeamPair);
 }

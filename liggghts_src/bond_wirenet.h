@@ -43,9 +43,15 @@ class BondWirenet : public Bond {
   const std::string &family(int type) const { return specs[type].family; }
 
  private:
-  // one entry per intact local bond, rebuilt whenever atoms or bond slots change
+  // The intact local bonds, rebuilt whenever atoms or bond slots change: wire bonds as entries
+  // into the history, beam bonds (records set at their first run, constant afterwards) as
+  // copies of their constants, two bonds per entry, one per SIMD lane. An odd count repeats the
+  // last bond in lane 1 of the last pair: computed, not applied.
   struct Entry { int i, j, type, m; double *h; };
-  std::vector<Entry> list;
+  struct BeamPair { WireNet::BeamConst<WireNet::Lanes> c; int i[2], j[2]; };
+  std::vector<Entry> wire_list;
+  std::vector<BeamPair> beam_list;
+  int nbeam;  // beam bonds in beam_list
   long list_version;
   class FixWirenetBonds *history;
 
@@ -60,7 +66,7 @@ class BondWirenet : public Bond {
   void build_list();
   void init_record(const Entry &e, double length);
   inline void compute_wire(const Entry &e, double dx, double dy, double dz, double r, int eflag);
-  inline void compute_beam(const Entry &e, int eflag);
+  template <int EVFLAG> void compute_beams(int eflag);
   void report_timestep();
   void ensure_history_fix();
   void report_types();

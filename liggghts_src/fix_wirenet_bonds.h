@@ -57,6 +57,7 @@ class FixWirenetBonds : public Fix {
   const double *record(int i, int m) const { return hist[i] + m * NHIST; }
   // rotation matrix (row-major) of node i's orientation, local and ghost atoms, current step
   const double *rotation(int i) const { return rot[i]; }
+  const double *rotations() const { return rot[0]; }  // all of them: 9 per atom, one block
   // bumped whenever local atom indices or bond slots may have changed
   long list_version() const { return version; }
   void use_orientations() { orient_flag = 1; }

@@ -11,7 +11,8 @@
               M_j = -(Kb (th_j - th_i) + Cs (th_i + th_j)) - Kt phi e,
      shear    F_j = 2 Cs (th_i + th_j) x e / L   (moment balance of the bond, F_i = -F_j).
    Kb = EI/L0 with Ks = 12 EI/L0^3 (Cs = 3 EI/L0) is the exact Euler-Bernoulli element;
-   Ks = GA/L0 is the classical parallel bond. */
+   Ks = GA/L0 is the classical parallel bond.
+   The force kernel, BeamLaw::load, is inline in the header: it is the body of the bond loop. */
 
 #include "wirenet_beam_law.h"
 
@@ -31,21 +32,6 @@ void require(bool ok, const std::string &what, double got)
   std::ostringstream s;
   s << what << " (got " << got << ")";
   throw std::invalid_argument(s.str());
-}
-
-// Bonds bend little: below these sizes the series are exact to round-off and skip the
-// transcendental calls that would otherwise dominate the bond's cost.
-const double SMALL_SIN2 = 0.05 * 0.05;
-const double SMALL_TAN = 0.05;
-
-// atan2(y, x), by its series when the angle is small
-__attribute__((always_inline)) inline double angle(double y, double x)
-{
-  if (x > 0.0 && std::fabs(y) < SMALL_TAN * x) {
-    const double r = y / x, r2 = r * r;
-    return r * (1.0 - r2 * (1.0 / 3 - r2 * (1.0 / 5 - r2 * (1.0 / 7 - r2 * (1.0 / 9)))));
-  }
-  return std::atan2(y, x);
 }
 
 inline void store3(double *h, const Vector3d &v) { h[0] = v[0]; h[1] = v[1]; h[2] = v[2]; }
@@ -100,76 +86,74 @@ void BeamLaw::init_bond(double *h, const Vector3d &xi, const Vector3d &xj, const
   store3(h + B_PJ, rj.transpose() * n);
 }
 
-namespace {
-
-struct V3 { double x, y, z; };
-__attribute__((always_inline)) inline V3 mul(const double *r, const double *v)
+void BeamLaw::prepare(const double *h, BeamConst<double> &b) const
 {
-  return { r[0] * v[0] + r[1] * v[1] + r[2] * v[2], r[3] * v[0] + r[4] * v[1] + r[5] * v[2],
-           r[6] * v[0] + r[7] * v[1] + r[8] * v[2] };
-}
-__attribute__((always_inline)) inline V3 cross(const V3 &a, const V3 &b)
-{
-  return { a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x };
-}
-__attribute__((always_inline)) inline double dot(const V3 &a, const V3 &b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-__attribute__((always_inline)) inline V3 axpy(double a, const V3 &x, const V3 &y)
-{
-  return { a * x.x + y.x, a * x.y + y.y, a * x.z + y.z };
-}
-// Rotation vector of the smallest rotation taking unit vector a onto unit vector b:
-// angle / sin(angle) = asin(s) / s by its series at small angles, atan2 otherwise.
-__attribute__((always_inline)) inline V3 bend(const V3 &a, const V3 &b)
-{
-  const V3 c = cross(a, b);
-  const double s2 = dot(c, c), co = dot(a, b);
-  double f;
-  if (co > 0.0 && s2 < SMALL_SIN2) {
-    f = 1.0 + s2 * (1.0 / 6 + s2 * (3.0 / 40 + s2 * (5.0 / 112 + s2 * (35.0 / 1152))));
-  } else {
-    const double s = std::sqrt(s2);
-    f = s < 1e-300 ? 0.0 : std::atan2(s, co) / s;
+  const double l0 = h[B_L0];
+  const Stiffness k = stiffness(l0);
+  b.l0 = l0;
+  b.ka = k.axial;
+  b.kp = k.bending + k.shear_coupling;
+  b.km = k.shear_coupling - k.bending;
+  b.kf = 2.0 * k.shear_coupling;
+  b.kt = k.twist;
+  for (int c = 0; c < 3; c++) {
+    b.di[c] = h[B_DI + c];
+    b.dj[c] = h[B_DJ + c];
+    b.pi[c] = h[B_PI + c];
+    b.pj[c] = h[B_PJ + c];
   }
-  return { f * c.x, f * c.y, f * c.z };
 }
 
-}  // namespace
+BeamConst<double> lane(const BeamConst<Lanes> &p, int k)
+{
+  BeamConst<double> b;
+  b.l0 = p.l0[k];
+  b.ka = p.ka[k];
+  b.kp = p.kp[k];
+  b.km = p.km[k];
+  b.kf = p.kf[k];
+  b.kt = p.kt[k];
+  for (int c = 0; c < 3; c++) {
+    b.di[c] = p.di[c][k];
+    b.dj[c] = p.dj[c][k];
+    b.pi[c] = p.pi[c][k];
+    b.pj[c] = p.pj[c][k];
+  }
+  return b;
+}
+
+void set_lane(BeamConst<Lanes> &p, int k, const BeamConst<double> &b)
+{
+  p.l0[k] = b.l0;
+  p.ka[k] = b.ka;
+  p.kp[k] = b.kp;
+  p.km[k] = b.km;
+  p.kf[k] = b.kf;
+  p.kt[k] = b.kt;
+  for (int c = 0; c < 3; c++) {
+    p.di[c][k] = b.di[c];
+    p.dj[c][k] = b.dj[c];
+    p.pi[c][k] = b.pi[c];
+    p.pj[c][k] = b.pj[c];
+  }
+}
 
 void BeamLaw::evaluate(const double *h, const double *xi, const double *xj, const double *ri,
                        const double *rj, BeamResult &out, bool report) const
 {
-  const double l0 = h[B_L0];
-  const V3 d = { xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2] };
-  const double L = std::sqrt(dot(d, d)), inv_L = 1.0 / L;
-  const V3 e = { d.x * inv_L, d.y * inv_L, d.z * inv_L };
-  const double inv_l0 = 1.0 / l0;
-  const double ka = EA_ * inv_l0, kb = fEI_ * inv_l0, kt = ftGJ_ * inv_l0;
-  const double cs = p_.shear == ShearModel::EULER_BERNOULLI ? 3.0 * kb : 0.25 * GA_ * l0;
-
-  // end rotations relative to the chord
-  const V3 th_i = bend(e, mul(ri, h + B_DI)), th_j = bend(e, mul(rj, h + B_DJ));
-  // twist: the ends' reference normals projected on the chord's normal plane
-  V3 ni = mul(ri, h + B_PI), nj = mul(rj, h + B_PJ);
-  ni = axpy(-dot(e, ni), e, ni);
-  nj = axpy(-dot(e, nj), e, nj);
-  const double phi = angle(dot(e, cross(ni, nj)), dot(ni, nj));
-
-  const V3 sum = { th_i.x + th_j.x, th_i.y + th_j.y, th_i.z + th_j.z };
-  const V3 diff = { th_i.x - th_j.x, th_i.y - th_j.y, th_i.z - th_j.z };
-  const V3 bend_i = { kb * diff.x + cs * sum.x, kb * diff.y + cs * sum.y, kb * diff.z + cs * sum.z };
-  const V3 bend_j = { cs * sum.x - kb * diff.x, cs * sum.y - kb * diff.y, cs * sum.z - kb * diff.z };
-  const V3 sc = cross(sum, e);
-  const double fs = 2.0 * cs * inv_L;
-  const double axial = ka * (L - l0), tw = kt * phi;
-
-  out.force_i = Eigen::Vector3d(axial * e.x - fs * sc.x, axial * e.y - fs * sc.y, axial * e.z - fs * sc.z);
-  out.torque_i = Eigen::Vector3d(tw * e.x - bend_i.x, tw * e.y - bend_i.y, tw * e.z - bend_i.z);
-  out.torque_j = Eigen::Vector3d(-tw * e.x - bend_j.x, -tw * e.y - bend_j.y, -tw * e.z - bend_j.z);
-  out.axial = axial;
-  if (!report) return;
-  out.shear = fs * std::sqrt(dot(sc, sc));
-  out.moment = std::sqrt(std::max(dot(bend_i, bend_i), dot(bend_j, bend_j)));
-  out.energy = 0.5 * (axial * (L - l0) + kb * dot(diff, diff) + cs * dot(sum, sum) + kt * phi * phi);
+  BeamConst<double> b;
+  prepare(h, b);
+  BeamNodes<double> n;
+  for (int c = 0; c < 3; c++) {
+    n.xi[c] = xi[c];
+    n.xj[c] = xj[c];
+  }
+  for (int c = 0; c < 9; c++) {
+    n.ri[c] = ri[c];
+    n.rj[c] = rj[c];
+  }
+  if (report) load<true>(b, n, out);
+  else load<false>(b, n, out);
 }
 
 }  // namespace WireNet

@@ -169,6 +169,17 @@ run 3000
     assert last["cw[5]"] == pytest.approx(last["pz"] - first["pz"], rel=1e-3)
 
 
+# one granular sphere at rest in a box, integrated: the frame of the contactwork argument tests
+ONE_SPHERE = """units si
+atom_style granular
+boundary f f f
+region box block -1 1 -1 1 -1 1 units box
+create_box 1 box
+create_atoms 1 single 0 0 0 units box
+fix integ all nve/sphere
+"""
+
+
 @pytest.mark.parametrize("args,message", [
     ("sinse cw0", "unknown mode 'sinse'"),
     ("pair", "needs bond_style wirenet"),
@@ -177,28 +188,14 @@ run 3000
     ("since integ", "fix 'integ' is not a 'fix wirenet/contactwork mark'"),
 ])
 def test_contactwork_bad_arguments(tmp_path, args, message):
-    deck = """units si
-atom_style granular
-boundary f f f
-region box block -1 1 -1 1 -1 1 units box
-create_box 1 box
-create_atoms 1 single 0 0 0 units box
-fix integ all nve/sphere
-fix cw all wirenet/contactwork """ + args + "\nrun 1\n"
+    deck = ONE_SPHERE + """fix cw all wirenet/contactwork """ + args + "\nrun 1\n"
     out = lmp.run_deck(deck, tmp_path, check=False)
     errors = lmp.error_lines(out)
     assert errors and message in errors[0], out[-1500:]
 
 
 def test_contactwork_mark_must_come_first(tmp_path):
-    deck = """units si
-atom_style granular
-boundary f f f
-region box block -1 1 -1 1 -1 1 units box
-create_box 1 box
-create_atoms 1 single 0 0 0 units box
-fix integ all nve/sphere
-fix cw all wirenet/contactwork since cw0
+    deck = ONE_SPHERE + """fix cw all wirenet/contactwork since cw0
 fix cw0 all wirenet/contactwork mark
 run 1
 """

@@ -1,14 +1,12 @@
 """Studies and their cases: what `./wirenet run [STUDY|CASE]` runs, one folder per case.
 
 A case writes DIR/CASE/case.json (status, wall time, case facts) next to its CSVs; a case whose
-case.json says "ok" and whose CSVs exist is skipped, so an interrupted study resumes. Cases whose
-model is not built yet are recorded as "not-implemented" and the report says so.
+case.json says "ok" and whose CSVs exist is skipped, so an interrupted study resumes.
 """
 
 import json
 import math
 import os
-import sys
 import time
 from dataclasses import dataclass
 
@@ -106,9 +104,6 @@ def impact_runner(panel):
     return run_impact_case
 
 
-# kinds whose model is not built yet, with what they need: listed as not implemented in the
-# report (none at present)
-PENDING = {}
 CALIBRATION_FRACTIONS = (0.0, 0.01, 0.05, 0.25, 1.0)
 
 CASES = {"beam": ("beam", run_beam_case)}
@@ -159,10 +154,6 @@ def run(args):
         case_dir = os.path.join(out, name)
         os.makedirs(case_dir, exist_ok=True)
         prefix = f"[case {k}/{len(names)}] {name}"
-        if runner is None:
-            print(f"{prefix}: not implemented yet (needs {PENDING[kind]})", flush=True)
-            _write_meta(case_dir, {"status": "not-implemented", "kind": kind, "needs": PENDING[kind]})
-            continue
         if _complete(case_dir, kind):
             print(f"{prefix}: complete, skipped (delete {case_dir} to run it again)", flush=True)
             continue
@@ -177,7 +168,3 @@ def run(args):
     for claim in summary["claims"]:
         print(f"claim {claim['id']}: {claim['verdict']}")
     print(f"report: {os.path.join(out, 'report.md')}")
-    pending = [n for n in names if CASES[n][1] is None]
-    if pending:
-        print(f"note: {len(pending)} of {len(names)} cases are not implemented yet: {', '.join(pending)}",
-              file=sys.stderr)

@@ -356,6 +356,7 @@ int runShape(const std::vector<std::string>& args) {
         o.setSummary("Cone platter (Bonati et al. 2004): base disc at z = 0, apex at z = -height.");
         o.addNumber("radius", 0.34, "m", "base radius");
         o.addNumber("height", 0.78, "m", "height");
+        o.addNumber("tip-radius", 0.0, "m", "radius of a flat tip disc replacing the apex (0 = sharp)", Bound::NonNegative);
     } else {
         o.setSummary("Truncated cube (impact block, EOTA 2013 / ETAG 027 shape), centroid at the origin.");
         o.addNumber("side", 0.45, "m", "cube side");
@@ -383,9 +384,13 @@ int runShape(const std::vector<std::string>& args) {
     } else {
         const double r = o.num("radius"), h = o.num("height");
         const int n = int(o.integer("resolution"));
-        mesh = kind == "cone" ? ShapeBuilder::cone(r, h, n) : ShapeBuilder::semiSpheroid(r, h, n);
-        analytic = kind == "cone" ? ShapeBuilder::coneVolume(r, h) : ShapeBuilder::semiSpheroidVolume(r, h);
+        const double tip = kind == "cone" ? o.num("tip-radius") : 0.0;
+        if (kind == "cone" && !(tip < r))
+            throw UsageError("--tip-radius must be < --radius (got " + fmt(tip) + " >= " + fmt(r) + ")");
+        mesh = kind == "cone" ? ShapeBuilder::cone(r, h, n, tip) : ShapeBuilder::semiSpheroid(r, h, n);
+        analytic = kind == "cone" ? ShapeBuilder::coneVolume(r, h, tip) : ShapeBuilder::semiSpheroidVolume(r, h);
         params.set("radius", r).set("height", h).set("resolution", n);
+        if (kind == "cone") params.set("tip_radius", tip);
     }
     const double mass = o.isSet("mass") || cube ? o.num("mass") : 0.0;
     MassProperties mp = massProperties(mesh, mass);

@@ -65,6 +65,36 @@ void fan(TriMesh& m, int centre, int ring, int n) {
     for (int i = 0; i < n; ++i) m.faces.push_back({centre, ring + i, ring + (i + 1) % n});
 }
 
+// A flat polygon (ring of n vertices) without a centre vertex: one central triangle of three
+// vertices about 120 degrees apart, each remaining cap fanned from its first vertex. The centre,
+// where the net's centre node rests on a flat platter tip, then lies inside a facet, about half a
+// radius from its edges, never on an edge or vertex (see addRing).
+void coveredDisc(TriMesh& m, int ring, int n) {
+    const int k[3] = {0, n / 3, 2 * n / 3};
+    m.faces.push_back({ring + k[0], ring + k[1], ring + k[2]});
+    for (int c = 0; c < 3; ++c) {
+        const int from = k[c], to = c < 2 ? k[c + 1] : n;
+        for (int j = from + 1; j < to; ++j) m.faces.push_back({ring + from, ring + j, ring + (j + 1) % n});
+    }
+}
+
+// Band between two rings of different vertex counts (both from addRing): walk both in angle
+// order, each triangle advancing the ring whose next vertex comes first.
+void zipBand(TriMesh& m, int ringA, int na, int ringB, int nb) {
+    auto angle = [](int k, int n) { return 2 * M_PI * (k + 0.5) / n; };
+    int i = 0, j = 0;
+    while (i < na || j < nb) {
+        const bool advanceA = j == nb || (i < na && angle(i + 1, na) < angle(j + 1, nb));
+        if (advanceA) {
+            m.faces.push_back({ringA + i, ringB + j % nb, ringA + (i + 1) % na});
+            ++i;
+        } else {
+            m.faces.push_back({ringA + i % na, ringB + j, ringB + (j + 1) % nb});
+            ++j;
+        }
+    }
+}
+
 void band(TriMesh& m, int ringA, int ringB, int n) {
     for (int i = 0; i < n; ++i) {
         const int j = (i + 1) % n;
@@ -95,13 +125,36 @@ TriMesh ShapeBuilder::semiSpheroid(double radius, double height, int segments) {
     return m;
 }
 
-TriMesh ShapeBuilder::cone(double radius, double height, int segments) {
+TriMesh ShapeBuilder::cone(double radius, double height, int segments, double tipRadius) {
     TriMesh m;
-    m.vertices.emplace_back(0, 0, -height);
-    const int ring = addRing(m, radius, 0.0, segments);
-    fan(m, 0, ring, segments);
-    m.vertices.emplace_back(0, 0, 0);
-    fan(m, int(m.vertices.size()) - 1, ring, segments);
+    if (tipRadius > 0) {
+        // Tip disc: an octagon of half the tip radius covered without a centre vertex, and a
+        // flat annulus out to the tip ring. Covering the whole ring without a centre vertex
+        // would need slivers that LIGGGHTS rejects as a bad mesh (angles near 180 deg).
+        const int inner = addRing(m, 0.5 * tipRadius, -height, 8);
+        coveredDisc(m, inner, 8);
+        const int tip = addRing(m, tipRadius, -height, segments);
+        zipBand(m, inner, 8, tip, segments);
+        // Lateral surface: rings doubling in radius, so no facet is a sliver (LIGGGHTS rejects
+        // angles below about 0.26 deg; one band from a 2 cm tip ring would make 0.2 deg). The
+        // quads stay planar: their vertices share azimuths on the exact cone.
+        int prev = tip;
+        for (double r = 2 * tipRadius; r < 0.75 * radius; r *= 2) {
+            const int ring = addRing(m, r, -height * (radius - r) / (radius - tipRadius), segments);
+            band(m, prev, ring, segments);
+            prev = ring;
+        }
+        const int base = addRing(m, radius, 0.0, segments);
+        band(m, prev, base, segments);
+        m.vertices.emplace_back(0, 0, 0);
+        fan(m, int(m.vertices.size()) - 1, base, segments);
+    } else {
+        m.vertices.emplace_back(0, 0, -height);
+        const int ring = addRing(m, radius, 0.0, segments);
+        fan(m, 0, ring, segments);
+        m.vertices.emplace_back(0, 0, 0);
+        fan(m, int(m.vertices.size()) - 1, ring, segments);
+    }
     m.orientOutward({0, 0, -0.25 * height});
     return m;
 }
@@ -143,7 +196,7 @@ TriMesh ShapeBuilder::truncatedCube(double side, double cut) {
 
 double ShapeBuilder::semiSpheroidVolume(double r, double h) { return 2.0 / 3.0 * M_PI * r * r * h; }
 
-double ShapeBuilder::coneVolume(double r, double h) { return M_PI * r * r * h / 3.0; }
+double ShapeBuilder::coneVolume(double r, double h, double a) { return M_PI * h * (r * r + r * a + a * a) / 3.0; }
 
 double ShapeBuilder::truncatedCubeVolume(double s, double c) { return s * s * s - 4.0 / 3.0 * c * c * c; }
 

@@ -30,13 +30,14 @@ class ShapeBuilder {
 public:
     // Base disc at z = 0, dome down to z = -height. `segments` around the axis.
     static TriMesh semiSpheroid(double radius, double height, int segments);
-    // Base disc at z = 0, apex at z = -height.
-    static TriMesh cone(double radius, double height, int segments);
+    // Base disc at z = 0, apex at z = -height; tipRadius > 0 replaces the apex by a flat disc
+    // of that radius at z = -height (a truncated cone of the same height).
+    static TriMesh cone(double radius, double height, int segments, double tipRadius = 0.0);
     // Cube of side `side` centred at the origin, each corner cut `cut` along its three edges.
     static TriMesh truncatedCube(double side, double cut);
 
     static double semiSpheroidVolume(double r, double h);
-    static double coneVolume(double r, double h);
+    static double coneVolume(double r, double h, double tipRadius = 0.0);
     static double truncatedCubeVolume(double s, double c);
     // Principal moment (all three equal by cubic symmetry) of the truncated cube.
     static double truncatedCubeInertia(double s, double c, double mass);

@@ -50,6 +50,8 @@ bad "--density must be a number (got steel)" beam --density steel --out p
 bad "--radius must be > 0 (got 0)"           shape spheroid --radius 0 --out s.stl
 bad "--height must be > 0 (got -1)"          shape cone --height -1 --out s.stl
 bad "--resolution must be an integer (got fine)" shape cone --resolution fine --out s.stl
+bad "--tip-radius must be < --radius (got 0.5 >= 0.34)" shape cone --tip-radius 0.5 --out s.stl
+bad "--tip-radius must be >= 0 (got -0.1)" shape cone --tip-radius -0.1 --out s.stl
 bad "--resolution must be >= 8 (got 3)"      shape spheroid --resolution 3 --out s.stl
 bad "--corner-cut must be < --side/2 (got 0.3 >= 0.225)" shape truncated-cube --corner-cut 0.3 --out s.stl
 bad "--side must be > 0 (got -0.45)"         shape truncated-cube --side -0.45 --out s.stl

@@ -1,6 +1,7 @@
 // Geometry invariants of the generators: closed-form counts, bond-length histograms,
 // symmetry, exact edges, masses, STL closure/orientation/volume, mass properties.
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -407,6 +408,16 @@ static void checkShape(const TriMesh& mesh, double analytic, const char* label) 
     std::printf("  %-28s facets %5zu volume %.6g (analytic %.6g, %+.3f %%)\n", label, back.faces.size(),
                 p.volume, analytic, 100 * (p.volume / analytic - 1));
     CHECK(closedConsistent(back), "%s: closed with consistent orientation", label);
+    // LIGGGHTS' fix mesh/surface refuses facets with an angle below about 0.256 deg (its default
+    // curvature): keep a margin.
+    double smallest = 180;
+    for (const auto& t : back.faces)
+        for (int e = 0; e < 3; ++e) {
+            const Eigen::Vector3d u = back.vertices[t[(e + 1) % 3]] - back.vertices[t[e]];
+            const Eigen::Vector3d w = back.vertices[t[(e + 2) % 3]] - back.vertices[t[e]];
+            smallest = std::min(smallest, std::atan2(u.cross(w).norm(), u.dot(w)) * 180 / M_PI);
+        }
+    CHECK(smallest > 0.3, "%s: smallest facet angle %g deg", label, smallest);
     CHECK(outward(back), "%s: outward normals", label);
     CHECK(std::abs(p.volume / analytic - 1) < 0.005, "%s: volume error %g", label, p.volume / analytic - 1);
     // The written facet normals agree with the vertex order.
@@ -430,7 +441,42 @@ static void testShapes() {
         std::snprintf(l2, sizeof l2, "cone res %d", res);
         checkShape(ShapeBuilder::semiSpheroid(0.5, 0.15, res), ShapeBuilder::semiSpheroidVolume(0.5, 0.15), l1);
         checkShape(ShapeBuilder::cone(0.34, 0.78, res), ShapeBuilder::coneVolume(0.34, 0.78), l2);
+        std::snprintf(l2, sizeof l2, "flat-tip cone res %d", res);
+        checkShape(ShapeBuilder::cone(0.34, 0.78, res, 0.02), ShapeBuilder::coneVolume(0.34, 0.78, 0.02), l2);
     }
+    // Flat tip: every tip vertex at z = -height within the tip radius; the axis point of the tip
+    // lies inside one facet, at least a few millimetres from every edge of the tip (the panel's
+    // centre node rests there: no facet edge may pass through it, see addRing).
+    for (int res : {8, 48, 96}) {
+        const double a = 0.02, h = 0.78;
+        const TriMesh m = ShapeBuilder::cone(0.34, h, res, a);
+        double closest = 1;
+        int inside = 0;
+        for (const auto& t : m.faces) {
+            const Eigen::Vector3d &p0 = m.vertices[t[0]], &p1 = m.vertices[t[1]], &p2 = m.vertices[t[2]];
+            if (p0.z() != -h || p1.z() != -h || p2.z() != -h) continue;
+            for (const Eigen::Vector3d* v : {&p0, &p1, &p2})
+                CHECK(v->head<2>().norm() <= a * (1 + 1e-12), "tip vertex at r = %g", v->head<2>().norm());
+            const Eigen::Vector3d c(0, 0, -h);
+            for (int e = 0; e < 3; ++e) {
+                const Eigen::Vector3d& u = m.vertices[t[e]];
+                const Eigen::Vector3d& w = m.vertices[t[(e + 1) % 3]];
+                const double s = std::clamp((c - u).dot(w - u) / (w - u).squaredNorm(), 0.0, 1.0);
+                closest = std::min(closest, (c - (u + s * (w - u))).norm());
+            }
+            // barycentric test in the plane z = -h
+            const Eigen::Vector2d q0 = p0.head<2>(), q1 = p1.head<2>(), q2 = p2.head<2>();
+            auto side = [](const Eigen::Vector2d& x, const Eigen::Vector2d& y, const Eigen::Vector2d& z) {
+                return (y - x).x() * (z - x).y() - (y - x).y() * (z - x).x();
+            };
+            const Eigen::Vector2d o(0, 0);
+            const double s0 = side(q0, q1, o), s1 = side(q1, q2, o), s2 = side(q2, q0, o);
+            if ((s0 > 0 && s1 > 0 && s2 > 0) || (s0 < 0 && s1 < 0 && s2 < 0)) ++inside;
+        }
+        CHECK_EQ(inside, 1);
+        CHECK(closest > 0.1 * a, "res %d: tip axis point %g m from a tip edge", res, closest);
+    }
+    CHECK_NEAR(ShapeBuilder::coneVolume(0.34, 0.78, 0.34), M_PI * 0.34 * 0.34 * 0.78, 1e-15);
     // Orientation conventions: base disc at z = 0, tip at -height.
     const TriMesh sph = ShapeBuilder::semiSpheroid(0.5, 0.15, 96);
     double zmin = 0, zmax = -1;

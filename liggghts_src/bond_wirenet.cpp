@@ -103,10 +103,26 @@ void BondWirenet::init_style()
     if (wires[t]) stretch = fmax(stretch, wires[t]->max_stretch());
     if (beams[t]) { stretch = fmax(stretch, 1.5); any_beam = 1; }
   }
-  if (any_beam) history->use_orientations();
+  // Node orientations cost a pass over the atoms and a ghost exchange every step: track them
+  // only when a beam bond exists (a hexagonal net with the deck's rope type declared has none;
+  // bonds are never created during a run, so the answer holds until the next init).
+  history->use_orientations(any_beam && beam_bonds_present());
   const double lmax = history->max_bond_length_global();
   history->set_ghost_extent(lmax * stretch);
   if (comm->me == 0) report_types();
+}
+
+bool BondWirenet::beam_bonds_present() const
+{
+  int mine = 0;
+  for (int i = 0; i < atom->nlocal && !mine; i++)
+    for (int m = 0; m < atom->num_bond[i]; m++) {
+      const int t = atom->bond_type[i][m];
+      if (t > 0 && beams[t]) { mine = 1; break; }
+    }
+  int all = 0;
+  MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MAX, world);
+  return all != 0;
 }
 
 void BondWirenet::ensure_history_fix()

@@ -69,6 +69,7 @@ class BondWirenet : public Bond {
   template <int EVFLAG> void compute_beams(int eflag);
   void report_timestep();
   void ensure_history_fix();
+  bool beam_bonds_present() const;  // any bond of a beam type on any rank (collective)
   void report_types();
 };
 

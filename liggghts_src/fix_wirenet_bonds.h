@@ -60,7 +60,7 @@ class FixWirenetBonds : public Fix {
   const double *rotations() const { return rot[0]; }  // all of them: 9 per atom, one block
   // bumped whenever local atom indices or bond slots may have changed
   long list_version() const { return version; }
-  void use_orientations() { orient_flag = 1; }
+  void use_orientations(bool on) { orient_flag = on ? 1 : 0; }
   void set_ghost_extent(double cut) { ghost_extent = cut; }
   // flag the bond (i, slot m) as broken; it leaves the atom's bond list at the next exchange;
   // energy = the elastic energy the bond stored when it broke (released)

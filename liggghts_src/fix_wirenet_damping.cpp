@@ -90,15 +90,22 @@ void FixWirenetDamping::post_force(int)
   const int nlocal = atom->nlocal;
   const int *mask = atom->mask;
   double **f = atom->f, **v = atom->v;
-  fdamp.assign(6 * (size_t)nlocal, 0.0);
+  // every entry is written below: grow only, no clearing pass
+  if (fdamp.size() < 6 * (size_t)nlocal) fdamp.resize(6 * (size_t)nlocal);
   for (int i = 0; i < nlocal; i++) {
-    if (!(mask[i] & groupbit)) continue;
     double *fd = &fdamp[6 * (size_t)i];
+    if (!(mask[i] & groupbit)) {
+      for (int k = 0; k < 6; k++) fd[k] = 0.0;
+      continue;
+    }
     for (int k = 0; k < 3; k++) {
       fd[k] = -alpha * fabs(f[i][k]) * sign_of(v[i][k]);
       f[i][k] += fd[k];
     }
-    if (!rotational) continue;
+    if (!rotational) {
+      fd[3] = fd[4] = fd[5] = 0.0;
+      continue;
+    }
     double *t = atom->torque[i], *w = atom->omega[i];
     for (int k = 0; k < 3; k++) {
       fd[3 + k] = -alpha * fabs(t[k]) * sign_of(w[k]);

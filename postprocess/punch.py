@@ -194,6 +194,7 @@ class Setup:
     def variables(self, speed_factor=1.0, every=None, stop_broken=None, travel=None):
         speed = PAPER_SPEED / speed_factor
         every = every or max(int(round(0.002 / (speed * self.dt))), 1)   # a row per 2 mm
+        ke_every = every // 20 if every % 20 == 0 else 1    # 20 kinetic-energy samples a row
         half = self.meta["panel"]
         v = dict(data=os.path.abspath(self.data_path), stl=os.path.abspath(self.stl),
                  platter_h=PLATTERS[self.platter]["height"], half_w=half["width"] / 2,
@@ -201,7 +202,8 @@ class Setup:
                  layers=self.layers, curve=" ".join(f"{e!r} {s!r}" for e, s in SW_CURVE),
                  bending=self.bending, alpha=ALPHA, mass_scale=repr(self.mass_scale),
                  dt=repr(self.dt), dt_preload=repr(self.dt_preload), relax_steps=self.relax_steps, speed=repr(speed),
-                 travel=travel or self.travel, every=every, dump_every=every * 5, out=".",
+                 travel=travel or self.travel, every=every, ke_every=ke_every,
+                 dump_every=every * 5, out=".",
                  stop_broken=self.stop_broken if stop_broken is None else stop_broken,
                  gamma_n=repr(self.gamma_n))
         v.update(WIRE)
@@ -409,8 +411,11 @@ def write_outputs(setup, case_dir, workdir, table, radius=1.0):
 
 def preload_facts(workdir):
     rows = read_csv(os.path.join(workdir, "preload.csv"), required=("edge_offset", "sag"))
-    return dict(iterations=int(len(rows["sag"]) - 1), edge_offset=float(rows["edge_offset"][-1]),
-                centre_sag=float(rows["sag"][-1]), gravity_sag=float(rows["sag"][0]))
+    facts = dict(iterations=int(len(rows["sag"]) - 1), edge_offset=float(rows["edge_offset"][-1]),
+                 centre_sag=float(rows["sag"][-1]), gravity_sag=float(rows["sag"][0]))
+    if "relax_steps" in rows:
+        facts["steps"] = int(np.sum(rows["relax_steps"]))
+    return facts
 
 
 def run_case(case_dir, panel, platter, bending=0.05, quick=False, np_=1, **setup_options):

@@ -31,21 +31,26 @@ def _peak_abs(values):
     return float(values.max()) if values.size else None
 
 
-def _peak_with_time(values, times):
+def _peak_with_time(values, times, displacements):
     if not len(values):
-        return None, None
+        return None, None, None
     index = int(np.argmax(values))
-    return float(values[index]), float(times[index])
+    return float(values[index]), float(times[index]), float(displacements[index])
 
 
 def zone_peaks(case):
-    """{family: peak total / max tension and their times} of a case's zone_forces.csv."""
+    """{family: peak total / max tension, their times and displacements} of a case's
+    zone_forces.csv."""
     result = {}
     for family, data in case.zone().items():
-        total, total_time = _peak_with_time(data["total"], data["time"])
-        largest, largest_time = _peak_with_time(data["max"], data["time"])
+        total, total_time, total_at = _peak_with_time(data["total"], data["time"],
+                                                      data["displacement"])
+        largest, largest_time, largest_at = _peak_with_time(data["max"], data["time"],
+                                                            data["displacement"])
         result[family] = {"peak_total_tension": total, "time_of_peak_total": total_time,
-                          "peak_max_tension": largest, "time_of_peak_max": largest_time}
+                          "displacement_of_peak_total": total_at,
+                          "peak_max_tension": largest, "time_of_peak_max": largest_time,
+                          "displacement_of_peak_max": largest_at}
     return result
 
 
@@ -78,7 +83,25 @@ def case_summary(case):
                              "rebound_time": case.meta.get("rebound_time"),
                              "edge_force_peak": case.meta.get("edge_force_peak"),
                              "peak_block_force": case.meta.get("peak_block_force")}
+    if isinstance(case.meta.get("quasi_static"), dict):
+        summary["quasi_static"] = quasi_static_summary(case.meta["quasi_static"])
     return summary
+
+
+QUASI_STATIC_KEYS = ("slow_factor", "curve_difference", "compared_up_to",
+                     "kinetic_energy_fraction", "equilibrium_error",
+                     "equilibrium_error_of_current", "passed")
+
+
+def quasi_static_summary(evidence):
+    """The punch's quasi-static evidence of case.json (postprocess.punch), None where absent."""
+    summary = {key: evidence.get(key) for key in QUASI_STATIC_KEYS}
+    summary["snap_events"] = len(evidence.get("snap_events") or [])
+    return summary
+
+
+def _percent(value):
+    return "n/a" if value is None else f"{100 * value:.3g} %"
 
 
 # --- impact peak comparison (Figures 5 and 6) -----------------------------------------------
@@ -221,6 +244,21 @@ def fmt(value, unit=""):
     return f"{value:.4g}{(' ' + unit) if unit else ''}"
 
 
+def fmt_rupture(value):
+    """First rupture of case.json: a time [s] (impact) or the punch's record
+    {displacement, force, bond: {atom1, atom2, family}}."""
+    if not isinstance(value, dict):
+        return fmt(value, "s")
+    bond = value.get("bond") or {}
+    return (f"{fmt(value.get('displacement'), 'm')}, {fmt(value.get('force'), 'N')}, "
+            f"{bond.get('family', '?')} bond {bond.get('atom1', '?')}-{bond.get('atom2', '?')}")
+
+
+def _when(kind, time, displacement):
+    """Where a zone peak happened: platter travel for a punch, time for an impact."""
+    return fmt(displacement, "m") if kind == "punch" else fmt(time, "s")
+
+
 def _table(header, rows):
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     lines += ["| " + " | ".join(row) + " |" for row in rows]
@@ -235,14 +273,17 @@ def _case_rows(summaries):
             yield [name, s["kind"], "not implemented"] + ["n/a"] * 5
             continue
         yield [name, s["kind"], status, fmt(s["peak_platter_force"]), fmt(s["peak_block_force"]),
-               fmt(s["first_rupture"]), fmt(s["edge_force_peak"]), fmt(s["wall_time"])]
+               fmt_rupture(s["first_rupture"]), fmt(s["edge_force_peak"]),
+               fmt(s["wall_time"])]
 
 
 def _zone_rows(summaries):
     for name, s in summaries.items():
         for family, z in s.get("zone", {}).items():
-            yield [name, family, fmt(z["peak_total_tension"]), fmt(z["time_of_peak_total"]),
-                   fmt(z["peak_max_tension"]), fmt(z["time_of_peak_max"])]
+            yield [name, family, fmt(z["peak_total_tension"]),
+                   _when(s["kind"], z["time_of_peak_total"], z["displacement_of_peak_total"]),
+                   fmt(z["peak_max_tension"]),
+                   _when(s["kind"], z["time_of_peak_max"], z["displacement_of_peak_max"])]
 
 
 def _claim_lines(claim):
@@ -268,12 +309,12 @@ def markdown(directory, summaries, claims, missing, figures):
              "first rupture, edge-force peak and wall time come from case.json (n/a: not "
              "recorded).", ""]
     lines += _table(["case", "kind", "status", "peak platter force [N]", "peak block force [N]",
-                     "first rupture [s]", "edge-force peak [N]", "wall time [s]"],
+                     "first rupture", "edge-force peak [N]", "wall time [s]"],
                     list(_case_rows(summaries)))
     lines += ["", "## Tension in the central zone (zone_forces.csv)", ""]
     zone_rows = list(_zone_rows(summaries))
-    lines += _table(["case", "family", "peak total tension [N]", "at time [s]",
-                     "peak max tension [N]", "at time [s]"], zone_rows) if zone_rows else \
+    lines += _table(["case", "family", "peak total tension [N]", "at",
+                     "peak max tension [N]", "at"], zone_rows) if zone_rows else \
         ["No zone_forces.csv found."]
     impacts = {n: s["impact"] for n, s in summaries.items() if s.get("impact")}
     if impacts:
@@ -290,6 +331,24 @@ def markdown(directory, summaries, claims, missing, figures):
                           fmt(i["max_displacement"]), fmt(i["rebound_time"]),
                           fmt(i["peak_block_force"]), fmt(i["edge_force_peak"]),
                           fmt(i["broken_bonds"])] for n, i in impacts.items()])
+    evidence = {n: s["quasi_static"] for n, s in summaries.items() if s.get("quasi_static")}
+    if evidence:
+        lines += ["", "## Punch cases: quasi-static evidence", "",
+                  "Curve: largest |F - F_slow| against a run K times slower, relative to the "
+                  "peak force, up to the travel given; kinetic energy relative to the work done; "
+                  "equilibrium: largest gap between the platter force and the edge reactions "
+                  "relative to the peak reaction (and to the current one while the force is at "
+                  "least 10 % of its peak); all up to the first rupture (case.json, "
+                  "`quasi_static`; doc/punch.md). Required: 1 % each.", ""]
+        lines += _table(["case", "K", "curve vs slower", "compared up to [m]",
+                         "kinetic energy / work", "equilibrium / peak (/ current)",
+                         "snap events", "passed"],
+                        [[n, fmt(q["slow_factor"]), _percent(q["curve_difference"]),
+                          fmt(q["compared_up_to"]), _percent(q["kinetic_energy_fraction"]),
+                          f"{_percent(q['equilibrium_error'])} "
+                          f"({_percent(q['equilibrium_error_of_current'])})",
+                          fmt(q["snap_events"]), fmt(q["passed"])]
+                         for n, q in evidence.items()])
     peak_rows = impact_peak_rows(summaries)
     if peak_rows:
         lines += ["", "## Impact: peak tension, single net vs compound (Figures 5 and 6)", ""]

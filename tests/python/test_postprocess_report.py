@@ -55,6 +55,16 @@ def make_study(root, hex_peaks=None, rope=(4e5, 9e3), square_rope=(5e5, 1e4), sk
         (root / "impact_hex" / "case.json").write_text(json.dumps(
             {"wall_time": 12.5, "first_rupture": 0.031, "edge_force_peak": 2.5e5,
              "status": "ok"}))
+    if "punch_hex" not in skip:
+        (root / "punch_hex" / "case.json").write_text(json.dumps(
+            {"status": "ok", "wall_time": 900.0,
+             "first_rupture": {"displacement": 0.3, "force": 2.5e5, "step": 1200,
+                               "bond": {"atom1": 17, "atom2": 18, "type": 1, "family": "DT"}},
+             "quasi_static": {"slow_factor": 4, "curve_difference": 0.0043,
+                              "compared_up_to": 0.123, "kinetic_energy_fraction": 0.00053,
+                              "equilibrium_error": 0.00079,
+                              "equilibrium_error_of_current": 0.0051,
+                              "snap_events": [], "passed": True}}))
     if "calibration" not in skip:
         for fraction in ("0", "0.05"):
             write_csv(root / f"calib_{fraction}" / "platter.csv", "time,displacement,force",
@@ -99,12 +109,19 @@ def test_full_report_with_figures(tmp_path):
     assert summary["cases"]["punch_hex"]["peak_platter_force"] == 3e5
     assert summary["cases"]["punch_hex"]["peak_block_force"] is None
     assert summary["cases"]["impact_compound"]["zone"]["rope"] == {
-        "peak_total_tension": 4e5, "time_of_peak_total": 0.1,
-        "peak_max_tension": 9e3, "time_of_peak_max": 0.1}
+        "peak_total_tension": 4e5, "time_of_peak_total": 0.1, "displacement_of_peak_total": 0.01,
+        "peak_max_tension": 9e3, "time_of_peak_max": 0.1, "displacement_of_peak_max": 0.01}
     assert summary["cases"]["beam"]["beam_max_nrmse"] == 0.02
     assert summary["cases"]["calib_0.05"]["kind"] == "calibration"
-    assert "| impact_hex | impact | ok | n/a | 7.5e+05 | 0.031 | 2.5e+05 | 12.5 |" in text
-    assert "| impact_square | rope | 5e+05 | 0.1 | 1e+04 | 0.1 |" in text
+    assert "| impact_hex | impact | ok | n/a | 7.5e+05 | 0.031 s | 2.5e+05 | 12.5 |" in text
+    assert ("| punch_hex | punch | ok | 3e+05 | n/a | 0.3 m, 2.5e+05 N, DT bond 17-18 | n/a "
+            "| 900 |") in text
+    assert "| impact_square | rope | 5e+05 | 0.1 s | 1e+04 | 0.1 s |" in text
+    assert ("| punch_hex | 4 | 0.43 % | 0.123 | 0.053 % | 0.079 % (0.51 %) | 0 | True |"
+            in text)
+    assert summary["cases"]["punch_hex"]["quasi_static"]["curve_difference"] == 0.0043
+    # punch peaks are placed by platter travel, not by time
+    assert "| punch_hex | DT | 1000 | 0.01 m | 120 | 0.01 m |" in text
     assert "   - punch_hex: DT 120 N vs SW 80 N -> holds" in text
     assert text.count("**supported**") == 3
 

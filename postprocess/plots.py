@@ -90,17 +90,51 @@ def figure_beam(beam, prefix, line=None):
     return save(fig, prefix)
 
 
+def relative_to_first(curves, floor=0.002):
+    """[(label, displacement, percent)]: each later curve's force minus the first one's (linear
+    interpolation on the first one's displacements), in % of the first one's force, where that
+    force is at least FLOOR of its largest |value| (below it the ratio is noise)."""
+    _, x_ref, f_ref = curves[0]
+    order = np.argsort(x_ref)
+    x_ref, f_ref = np.asarray(x_ref)[order], np.asarray(f_ref)[order]
+    keep = np.abs(f_ref) >= floor * np.max(np.abs(f_ref)) if np.size(f_ref) else f_ref > 0
+    result = []
+    for label, x, force in curves[1:]:
+        x, force = np.asarray(x), np.asarray(force)
+        inside = keep & (x_ref >= np.min(x)) & (x_ref <= np.max(x)) if np.size(x) else keep & False
+        ordered = np.argsort(x)
+        other = np.interp(x_ref[inside], x[ordered], force[ordered])
+        result.append((label, x_ref[inside], 100.0 * (other - f_ref[inside]) / f_ref[inside]))
+    return result
+
+
 def figure_calibration(curves, prefix):
-    """Figure 2: platter force vs displacement, one curve per (label, displacement, force)."""
+    """Figure 2: (a) platter force vs displacement, one curve per (label, displacement, force);
+    (b) with several curves, each one's difference to the first in % (they nearly overlap)."""
     plt = _pyplot()
-    fig, axis = plt.subplots(figsize=(6, 4.5), layout="constrained")
+    several = len(curves) > 1
+    fig, axes = plt.subplots(1, 2 if several else 1, figsize=(11 if several else 6, 4.5),
+                             layout="constrained", squeeze=False)
+    axis = axes[0][0]
     scale, unit = force_scale([force for _, _, force in curves])
-    for label, displacement, force in curves:
-        axis.plot(displacement, force / scale, label=label)
+    colours = [axis.plot(displacement, force / scale, label=label)[0].get_color()
+               for label, displacement, force in curves]
     axis.set_xlabel("platter displacement [m]")
     axis.set_ylabel(f"platter force [{unit}]")
     axis.legend(title="bending stiffness ratio")
-    axis.set_title("Figure 2: square-mesh cone punch, calibration")
+    if several:
+        axis.set_title("(a) force-displacement curves")
+        right = axes[0][1]
+        right.axhline(0.0, color=colours[0], lw=1, label=curves[0][0])
+        for (label, x, percent), colour in zip(relative_to_first(curves), colours[1:]):
+            right.plot(x, percent, color=colour, label=label)
+        right.set_xlabel("platter displacement [m]")
+        right.set_ylabel(f"force relative to ratio {curves[0][0]} [%]")
+        right.set_title(f"(b) difference to ratio {curves[0][0]} (force >= 0.2 % of its peak)")
+        right.legend(title="bending stiffness ratio")
+        fig.suptitle("Figure 2: square-mesh cone punch, calibration")
+    else:
+        axis.set_title("Figure 2: square-mesh cone punch, calibration")
     return save(fig, prefix)
 
 

@@ -221,3 +221,18 @@ def test_plot_labels_count_mismatch(tmp_path, capsys):
     assert code == 2
     assert capsys.readouterr().err == "postprocess plot: error: --labels: 2 labels for 1 files\n"
     assert not list(tmp_path.glob("x.*"))
+
+
+def test_calibration_difference_panel_is_the_relative_force_gap():
+    """Panel (b) of Figure 2: a curve 10 % above the reference on another displacement grid
+    reads 10 % wherever the reference force is above the floor, and nothing below it."""
+    import numpy as np
+    from postprocess.plots import relative_to_first
+    x_ref = np.linspace(0.0, 0.5, 51)
+    x_other = np.linspace(0.0, 0.5, 201)
+    reference = ("0", x_ref, 1e6 * x_ref ** 2)
+    stiffer = ("1", x_other, 1.1e6 * x_other ** 2)
+    (label, x, percent), = relative_to_first([reference, stiffer], floor=0.01)
+    assert label == "1"
+    assert x[0] >= 0.05 - 1e-12 and x[-1] == 0.5
+    assert np.allclose(percent, 10.0, atol=0.05)

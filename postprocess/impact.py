@@ -265,8 +265,8 @@ def run_case(case_dir, panel, bending=0.05, quick=False, np_=1, **setup_options)
     workdir = os.path.join(case_dir, "run")
     start = time.time()
     wall = liggghts.run(liggghts.INPUTS / "impact.in", workdir, setup.variables(), np=np_,
-                        total_steps=setup.relax_steps + setup.steps, label=f"impact {panel}",
-                        dt=setup.dt)
+                        total_steps=setup.steps, label=f"impact {panel}", dt=setup.dt,
+                        phase_marker="impact: block released")
     table = read_impact(workdir)
     facts = write_outputs(setup, case_dir, workdir, table)
     facts.update(panel=panel, bending=bending, block=dict(mass=setup.mass, side=setup.side,

@@ -42,9 +42,12 @@ def generate(kind, out_prefix, *options):
 _NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
 
 
-def run(deck, workdir, variables=None, np=1, total_steps=None, label="", dt=None):
+def run(deck, workdir, variables=None, np=1, total_steps=None, label="", dt=None,
+        phase_marker=None):
     """Run the deck file in workdir with -var NAME VALUE pairs; show progress (step, simulated
-    time, ETA) on long runs; raise with LIGGGHTS' ERROR line on failure."""
+    time, ETA) on long runs; raise with LIGGGHTS' ERROR line on failure. With phase_marker, the
+    steps before the log line holding it are a preparation phase of unknown length (reported
+    without ETA); total_steps and the ETA count from that line on."""
     workdir = Path(workdir)
     workdir.mkdir(parents=True, exist_ok=True)
     # never "-screen none": LIGGGHTS 3.8's STL reader (input_mesh_tri.cpp) prints to the
@@ -59,11 +62,13 @@ def run(deck, workdir, variables=None, np=1, total_steps=None, label="", dt=None
     proc = subprocess.Popen(cmd, cwd=workdir, env=mpi_env(), stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, text=True)
     last = start
+    progress = Progress(workdir / "log.lammps", total_steps, label, dt, phase_marker) \
+        if total_steps else None
     while proc.poll() is None:
         time.sleep(0.5)
-        if total_steps and time.time() - last > 5:
+        if progress and time.time() - last > 5:
             last = time.time()
-            _progress(workdir / "log.lammps", total_steps, start, label, dt)
+            progress.report()
     output = proc.stdout.read()
     log = (workdir / "log.lammps").read_text(errors="replace") if (workdir / "log.lammps").exists() else ""
     errors = [l for l in (log + output).splitlines() if "ERROR" in l]
@@ -73,21 +78,48 @@ def run(deck, workdir, variables=None, np=1, total_steps=None, label="", dt=None
     return time.time() - start
 
 
-def _progress(log, total, start, label, dt):
-    step = None
-    try:
-        for line in log.read_text(errors="replace").splitlines()[-50:]:
+class Progress:
+    """Progress lines of a running deck from the thermo rows of its log: one line whenever the
+    step has moved, with the ETA of the counted phase (after phase_marker, if given)."""
+
+    def __init__(self, log, total, label, dt, phase_marker=None):
+        self.log, self.total, self.label, self.dt = log, total, label, dt
+        self.marker = phase_marker
+        self.phase_start = None if phase_marker else time.time()
+        self.first_step = None if phase_marker else 0   # counted step seen at phase_start
+        self.last_step = None
+
+    def _scan(self):
+        """(latest thermo step, whether the marker has been seen) of the log."""
+        text = self.log.read_text(errors="replace")
+        marked = self.marker is None or self.marker in text
+        if self.marker is not None and marked:
+            text = text[text.index(self.marker):]
+        step = None
+        for line in text.splitlines()[-50:]:
             words = line.split()
             # thermo rows: all numbers, the first an integer step
             if words and words[0].isdigit() and all(_NUMBER.match(w) for w in words):
                 step = int(words[0])
-    except OSError:
-        return
-    if not step:
-        return
-    elapsed = time.time() - start
-    frac = min(step / total, 1.0)
-    eta = elapsed * (1 - frac) / frac if frac > 0 else float("nan")
-    sim = f", t = {step * dt:.4g} s" if dt else ""
-    print(f"    {label}: step {step}/{total} ({100 * frac:.0f} %{sim}), ETA {eta:.0f} s",
-          file=sys.stderr, flush=True)
+        return step, marked
+
+    def report(self):
+        try:
+            step, marked = self._scan()
+        except OSError:
+            return
+        if marked and self.phase_start is None:
+            self.phase_start, self.first_step = time.time(), step or 0
+        if step is None or (step, marked) == self.last_step:
+            return
+        self.last_step = (step, marked)
+        if not marked:
+            print(f"    {self.label}: preparing (step {step})", file=sys.stderr, flush=True)
+            return
+        elapsed, done = time.time() - self.phase_start, step - self.first_step
+        frac = min(step / self.total, 1.0)
+        eta = f"{elapsed * max(self.total - step, 0) / done:.0f} s" \
+            if done > 0 and elapsed > 0 else "n/a"
+        sim = f", t = {step * self.dt:.4g} s" if self.dt else ""
+        print(f"    {self.label}: step {step}/{self.total} ({100 * frac:.0f} %{sim}), ETA {eta}",
+              file=sys.stderr, flush=True)

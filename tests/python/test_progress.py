@@ -1,0 +1,41 @@
+"""Progress lines of a running deck (postprocess.liggghts.Progress) from a log being written."""
+
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+
+from postprocess import liggghts  # noqa: E402
+from postprocess.liggghts import Progress  # noqa: E402
+
+THERMO = "Step Atoms KinEng\n"
+
+
+def test_preparation_phase_is_not_counted_and_lines_only_on_new_steps(tmp_path, capsys,
+                                                                      monkeypatch):
+    clock = [1000.0]
+    monkeypatch.setattr(liggghts.time, "time", lambda: clock[0])
+    log = tmp_path / "log.lammps"
+    log.write_text(THERMO + "5000 10 0.1\n9000 10 0.2\n")
+    progress = Progress(log, total=1000, label="run", dt=0.5, phase_marker="pre-load: done")
+    progress.report()
+    progress.report()                        # same step: no second line
+    log.write_text(log.read_text() + "pre-load: done\n" + THERMO + "0 10 0\n250 10 0.1\n")
+    progress.report()
+    clock[0] += 60.0
+    log.write_text(log.read_text() + "500 10 0.2\n")
+    progress.report()
+    lines = capsys.readouterr().err.splitlines()
+    assert lines[0].strip() == "run: preparing (step 9000)"
+    assert len(lines) == 3
+    # the pre-load's step 9000 must not count against the punch's 1000 steps; no rate yet
+    assert lines[1].strip() == "run: step 250/1000 (25 %, t = 125 s), ETA n/a"
+    # the rate comes from the steps done since the phase began: 250 more take as long again
+    assert lines[2].strip() == "run: step 500/1000 (50 %, t = 250 s), ETA 120 s"
+
+
+def test_without_marker_every_step_counts(tmp_path, capsys):
+    log = tmp_path / "log.lammps"
+    log.write_text(THERMO + "100 10 0.1\n")
+    Progress(log, total=400, label="impact", dt=None).report()
+    assert capsys.readouterr().err.strip().startswith("impact: step 100/400 (25 %), ETA")

@@ -64,6 +64,7 @@ def make_study(root, hex_peaks=None, rope=(4e5, 9e3), square_rope=(5e5, 1e4), sk
                               "compared_up_to": 0.123, "kinetic_energy_fraction": 0.00053,
                               "equilibrium_error": 0.00079,
                               "equilibrium_error_of_current": 0.0051,
+                              "equilibrium_holds_from": 0.12,
                               "snap_events": [], "passed": True}}))
     if "calibration" not in skip:
         for fraction in ("0", "0.05"):
@@ -117,7 +118,7 @@ def test_full_report_with_figures(tmp_path):
     assert ("| punch_hex | punch | ok | 3e+05 | n/a | 0.3 m, 2.5e+05 N, DT bond 17-18 | n/a "
             "| 900 |") in text
     assert "| impact_square | rope | 5e+05 | 0.1 s | 1e+04 | 0.1 s |" in text
-    assert ("| punch_hex | 4 | 0.43 % | 0.123 | 0.053 % | 0.079 % (0.51 %) | 0 | True |"
+    assert ("| punch_hex | 4 | 0.43 % | 0.123 | 0.053 % | 0.079 % (0.51 %) | 0.12 | 0 | True |"
             in text)
     assert summary["cases"]["punch_hex"]["quasi_static"]["curve_difference"] == 0.0043
     # punch peaks are placed by platter travel, not by time

@@ -50,6 +50,22 @@ def test_equilibrium_platter_force_balances_the_edge_reactions(case):
     # the reaction carries the weight of the whole panel (4.8 kg) on top of the platter force
     assert table["weight"][0] == pytest.approx(4.8 * 9.81, rel=1e-6)
     assert table["force"].max() > 1e4
+    # the travel from which every row balances within 1 % of its own reaction, recomputed
+    start = facts["quasi_static"]["equilibrium_holds_from"]
+    assert start is not None and start < 0.5 * table["displacement"][-1]
+    rows = table["displacement"] >= start
+    gap = np.abs(table["reaction"] - table["weight"] - table["force"])[rows]
+    assert np.all(gap <= 0.01 * np.abs(table["reaction"][rows]))
+
+
+def test_equilibrium_holds_from_finds_the_last_bad_row():
+    table = {"displacement": np.array([0.0, 0.1, 0.2, 0.3, 0.4]),
+             "weight": np.full(5, 10.0), "force": np.array([0.0, 5.0, 90.0, 190.0, 290.0]),
+             "reaction": np.array([10.5, 15.0, 101.5, 200.5, 300.0])}
+    # rows 0 (5 %) and 2 (1.5 %) are off by more than 1 %; row 3 is 0.25 % off
+    assert punch.equilibrium_holds_from(table) == pytest.approx(0.3)
+    assert punch.equilibrium_holds_from(table, upto=3) is None
+    assert punch.equilibrium_holds_from(table, tolerance=0.1) == 0.0
 
 
 def test_quasi_static_evidence(case):

@@ -149,10 +149,12 @@ def _families_to_plot(series, families):
     return found
 
 
-def figure_zone(series, prefix, x="time", families=None, title=None):
+def figure_zone(series, prefix, x="time", families=None, title=None, ruptures=None):
     """Figures 3, 5, 6: (a) maximum and (b) total tension per family of several cases.
 
     ``series``: list of (label, Case.zone() dict). Colour = family, line style = case.
+    ``ruptures``: {label: x of the case's first rupture}, drawn as a grey vertical line in the
+    case's line style (where the mesh starts to tear, the curves stop being quasi-static).
     """
     plt = _pyplot()
     families = _families_to_plot(series, families)
@@ -167,6 +169,10 @@ def figure_zone(series, prefix, x="time", families=None, title=None):
                 data = zone[family]
                 panel.plot(data[x], data[key] / scale, LINESTYLES[index % len(LINESTYLES)],
                            color=FAMILY_COLOURS.get(family), label=f"{label}: {family}")
+            at = (ruptures or {}).get(label)
+            if at is not None:
+                panel.axvline(at, ls=LINESTYLES[index % len(LINESTYLES)], color="0.5", lw=1,
+                              label=f"{label}: first rupture")
         panel.set_xlabel("platter displacement [m]" if x == "displacement" else "time [s]")
         panel.set_ylabel(f"{name} tensile force [{unit}]")
         panel.set_title(f"({'a' if key == 'max' else 'b'}) {name} bond tension in the zone")
@@ -175,6 +181,17 @@ def figure_zone(series, prefix, x="time", families=None, title=None):
     if title:
         fig.suptitle(title)
     return save(fig, prefix)
+
+
+def first_rupture_at(record, x):
+    """Abscissa of a case.json first rupture on a figure plotted against x: the punch records
+    {displacement, ...}, the impact a time; None when absent or not on that axis."""
+    if isinstance(record, dict):
+        value = record.get(x)
+    else:
+        value = record if x == "time" else None
+    return float(value) if isinstance(value, (int, float)) and not isinstance(value, bool) \
+        else None
 
 
 def _case_label(path, labels, index):
@@ -203,7 +220,10 @@ def study_figures(directory, cases=None):
         series = [(c, cases[c].zone()) for c in wanted
                   if c in cases and cases[c].usable and "zone" in cases[c].tables]
         if series:
-            written[name] = figure_zone(series, os.path.join(out, name), x, families, title)
+            ruptures = {c: first_rupture_at(cases[c].meta.get("first_rupture"), x)
+                        for c, _ in series}
+            written[name] = figure_zone(series, os.path.join(out, name), x, families, title,
+                                        ruptures)
     return written
 
 

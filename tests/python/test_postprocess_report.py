@@ -237,3 +237,13 @@ def test_calibration_difference_panel_is_the_relative_force_gap():
     assert label == "1"
     assert x[0] >= 0.05 - 1e-12 and x[-1] == 0.5
     assert np.allclose(percent, 10.0, atol=0.05)
+
+
+def test_first_rupture_marker_position():
+    from postprocess.plots import first_rupture_at
+    punch_record = {"displacement": 0.42, "force": 2.3e4, "bond": {"family": "DT"}}
+    assert first_rupture_at(punch_record, "displacement") == 0.42
+    assert first_rupture_at(punch_record, "time") is None
+    assert first_rupture_at(0.031, "time") == 0.031          # impact: a time
+    assert first_rupture_at(0.031, "displacement") is None
+    assert first_rupture_at(None, "time") is None

@@ -259,6 +259,25 @@ def _when(kind, time, displacement):
     return fmt(displacement, "m") if kind == "punch" else fmt(time, "s")
 
 
+IMPACT_NOTE = (
+    "Closure: largest departure of the energy budget from its initial value relative to the "
+    "initial energy; momentum: largest gap between the change of momentum of block + net and "
+    "the impulses of supports, gravity and damping, relative to the block's initial momentum "
+    "(case.json, energy.csv, momentum.csv, edges.csv, ruptures.csv).")
+QUASI_STATIC_NOTE = (
+    "Curve: largest |F - F_slow| against a run K times slower, relative to the peak force, up "
+    "to the travel given; kinetic energy relative to the work done; equilibrium: largest gap "
+    "between the platter force and the edge reactions relative to the peak reaction (and to the "
+    "current one while the force is at least 10 % of its peak), and the travel from which every "
+    "row balances within 1 % of its own reaction; all up to the first rupture (case.json, "
+    "`quasi_static`; doc/punch.md). Required: 1 % each.")
+
+
+def _section(title, text):
+    """Lines opening a report section: heading, explanatory paragraph, blank line."""
+    return ["", f"## {title}", "", text, ""]
+
+
 def _table(header, rows):
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     lines += ["| " + " | ".join(row) + " |" for row in rows]
@@ -318,12 +337,7 @@ def markdown(directory, summaries, claims, missing, figures):
         ["No zone_forces.csv found."]
     impacts = {n: s["impact"] for n, s in summaries.items() if s.get("impact")}
     if impacts:
-        lines += ["", "## Impact cases: energy budget, momentum, supports", "",
-                  "Closure: largest departure of the energy budget from its initial value "
-                  "relative to the initial energy; momentum: largest gap between the change of "
-                  "momentum of block + net and the impulses of supports, gravity and damping, "
-                  "relative to the block's initial momentum (case.json, energy.csv, "
-                  "momentum.csv, edges.csv, ruptures.csv).", ""]
+        lines += _section("Impact cases: energy budget, momentum, supports", IMPACT_NOTE)
         lines += _table(["case", "energy closure [-]", "momentum error [-]",
                          "max block travel [m]", "rebound at [s]", "peak block force [N]",
                          "peak edge force [N]", "broken bonds"],
@@ -333,14 +347,7 @@ def markdown(directory, summaries, claims, missing, figures):
                           fmt(i["broken_bonds"])] for n, i in impacts.items()])
     evidence = {n: s["quasi_static"] for n, s in summaries.items() if s.get("quasi_static")}
     if evidence:
-        lines += ["", "## Punch cases: quasi-static evidence", "",
-                  "Curve: largest |F - F_slow| against a run K times slower, relative to the "
-                  "peak force, up to the travel given; kinetic energy relative to the work done; "
-                  "equilibrium: largest gap between the platter force and the edge reactions "
-                  "relative to the peak reaction (and to the current one while the force is at "
-                  "least 10 % of its peak), and the travel from which every row balances within "
-                  "1 % of its own reaction; all up to the first rupture (case.json, "
-                  "`quasi_static`; doc/punch.md). Required: 1 % each.", ""]
+        lines += _section("Punch cases: quasi-static evidence", QUASI_STATIC_NOTE)
         lines += _table(["case", "K", "curve vs slower", "compared up to [m]",
                          "kinetic energy / work", "equilibrium / peak (/ current)",
                          "within 1 % of current from [m]", "snap events", "passed"],

@@ -93,17 +93,22 @@ def figure_beam(beam, prefix, line=None):
 def relative_to_first(curves, floor=0.002):
     """[(label, displacement, percent)]: each later curve's force minus the first one's (linear
     interpolation on the first one's displacements), in % of the first one's force, where that
-    force is at least FLOOR of its largest |value| (below it the ratio is noise)."""
+    force is at least FLOOR of its largest |value| (below it the ratio is noise). Empty curves
+    are left out."""
     _, x_ref, f_ref = curves[0]
+    if not np.size(f_ref):
+        return []
     order = np.argsort(x_ref)
     x_ref, f_ref = np.asarray(x_ref)[order], np.asarray(f_ref)[order]
-    keep = np.abs(f_ref) >= floor * np.max(np.abs(f_ref)) if np.size(f_ref) else f_ref > 0
+    keep = np.abs(f_ref) >= floor * np.max(np.abs(f_ref))
     result = []
     for label, x, force in curves[1:]:
-        x, force = np.asarray(x), np.asarray(force)
-        inside = keep & (x_ref >= np.min(x)) & (x_ref <= np.max(x)) if np.size(x) else keep & False
-        ordered = np.argsort(x)
-        other = np.interp(x_ref[inside], x[ordered], force[ordered])
+        if not np.size(x):
+            continue
+        order = np.argsort(x)
+        x, force = np.asarray(x)[order], np.asarray(force)[order]
+        inside = keep & (x_ref >= x[0]) & (x_ref <= x[-1])
+        other = np.interp(x_ref[inside], x, force)
         result.append((label, x_ref[inside], 100.0 * (other - f_ref[inside]) / f_ref[inside]))
     return result
 
@@ -117,17 +122,17 @@ def figure_calibration(curves, prefix):
                              layout="constrained", squeeze=False)
     axis = axes[0][0]
     scale, unit = force_scale([force for _, _, force in curves])
-    colours = [axis.plot(displacement, force / scale, label=label)[0].get_color()
-               for label, displacement, force in curves]
+    colours = {label: axis.plot(displacement, force / scale, label=label)[0].get_color()
+               for label, displacement, force in curves}
     axis.set_xlabel("platter displacement [m]")
     axis.set_ylabel(f"platter force [{unit}]")
     axis.legend(title="bending stiffness ratio")
     if several:
         axis.set_title("(a) force-displacement curves")
         right = axes[0][1]
-        right.axhline(0.0, color=colours[0], lw=1, label=curves[0][0])
-        for (label, x, percent), colour in zip(relative_to_first(curves), colours[1:]):
-            right.plot(x, percent, color=colour, label=label)
+        right.axhline(0.0, color=colours[curves[0][0]], lw=1, label=curves[0][0])
+        for label, x, percent in relative_to_first(curves):
+            right.plot(x, percent, color=colours[label], label=label)
         right.set_xlabel("platter displacement [m]")
         right.set_ylabel(f"force relative to ratio {curves[0][0]} [%]")
         right.set_title(f"(b) difference to ratio {curves[0][0]} (force >= 0.2 % of its peak)")

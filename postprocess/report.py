@@ -31,7 +31,7 @@ def _peak_abs(values):
     return float(values.max()) if values.size else None
 
 
-def _peak_with_time(values, times, displacements):
+def _peak_where(values, times, displacements):
     if not len(values):
         return None, None, None
     index = int(np.argmax(values))
@@ -43,9 +43,9 @@ def zone_peaks(case):
     zone_forces.csv."""
     result = {}
     for family, data in case.zone().items():
-        total, total_time, total_at = _peak_with_time(data["total"], data["time"],
+        total, total_time, total_at = _peak_where(data["total"], data["time"],
                                                       data["displacement"])
-        largest, largest_time, largest_at = _peak_with_time(data["max"], data["time"],
+        largest, largest_time, largest_at = _peak_where(data["max"], data["time"],
                                                             data["displacement"])
         result[family] = {"peak_total_tension": total, "time_of_peak_total": total_time,
                           "displacement_of_peak_total": total_at,

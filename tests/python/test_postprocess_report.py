@@ -237,6 +237,10 @@ def test_calibration_difference_panel_is_the_relative_force_gap():
     assert label == "1"
     assert x[0] >= 0.05 - 1e-12 and x[-1] == 0.5
     assert np.allclose(percent, 10.0, atol=0.05)
+    # an empty curve (a case that wrote no rows yet) is left out, not a crash
+    empty = ("0.5", np.array([]), np.array([]))
+    assert [r[0] for r in relative_to_first([reference, empty, stiffer])] == ["1"]
+    assert relative_to_first([empty, stiffer]) == []
 
 
 def test_first_rupture_marker_position():

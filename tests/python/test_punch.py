@@ -126,9 +126,9 @@ def test_hex_nodes_stay_on_the_spheroid(tmp_path):
     os.environ.setdefault("WIRENET_BUILD", str(lmp.BUILD))
     setup = punch.Setup(str(tmp_path / "setup"), "hex", "spheroid", quick=True, travel=0.02)
     variables, every = setup.variables()
-    steps = int(math.ceil(setup.travel / (punch.PAPER_SPEED * setup.dt))) + 3 * setup.relax_steps
+    steps = int(math.ceil(setup.travel / (punch.PAPER_SPEED * setup.dt)))
     punch.liggghts.run(punch.liggghts.INPUTS / "punch.in", tmp_path / "run", variables,
-                       total_steps=steps, dt=setup.dt)
+                       total_steps=steps, dt=setup.dt, phase_marker="pre-load: centre sag")
     table = punch.read_punch(str(tmp_path / "run"))
     assert table["displacement"][-1] == pytest.approx(0.02, abs=2e-3)
     assert table["broken"].max() == 0
@@ -142,3 +142,14 @@ def test_hex_nodes_stay_on_the_spheroid(tmp_path):
     f = table["force"][table["displacement"] > 0.005]
     assert np.all(np.diff(f) > -0.02 * f.max())
     assert f[-1] > 100
+
+
+@pytest.mark.parametrize("ke_every", [0, 7])
+def test_deck_names_a_bad_ke_every(tmp_path, ke_every):
+    """The kinetic-energy sampling interval must divide the output interval; the deck says so
+    before it reads anything (LIGGGHTS' own message would be 'Illegal fix ave/time command')."""
+    os.environ.setdefault("WIRENET_BUILD", str(lmp.BUILD))
+    with pytest.raises(punch.PostprocessError, match=r"ke_every = %d must be a positive divisor "
+                       r"of every = 1000" % ke_every):
+        punch.liggghts.run(punch.liggghts.INPUTS / "punch.in", tmp_path,
+                           {"ke_every": ke_every, "every": 1000})

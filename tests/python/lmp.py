@@ -9,7 +9,8 @@ ROOT = Path(__file__).resolve().parents[2]
 BUILD = Path(os.environ.get("WIRENET_BUILD", ROOT / "build"))
 LIGGGHTS = BUILD / "bin" / "liggghts"
 GEN = BUILD / "bin" / "wirenet-gen"
-TRACES = ROOT.parent / "shared" / "reference" / "wire_law_traces"
+# YADE reference traces of the wire law, copied into the repository (provenance in its README)
+TRACES = ROOT / "tests" / "reference" / "wire_law_traces"
 
 MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
            "OMPI_MCA_rmaps_base_oversubscribe": "1"}

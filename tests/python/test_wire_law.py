@@ -1,4 +1,5 @@
-"""The wire law of bond_style wirenet against the YADE WirePM reference traces.
+"""The wire law of bond_style wirenet against the YADE WirePM reference traces
+(tests/reference/wire_law_traces/, provenance in tests/reference/README.md).
 
 Two nodes 40 mm apart; node 2 is driven along the bond axis through the traces' load path
 (fractions 0.1, 0, 0.3, 0.05, 0.6, 0.55, 1.05 of the rupture elongation, 400 steps per leg) and the

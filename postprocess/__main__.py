@@ -229,10 +229,15 @@ def main(argv=None):
         print(f"postprocess {args.command}: error: {exc}", file=sys.stderr)
         return 2
     except OSError as exc:
-        name = exc.filename or ""
-        print(f"postprocess {args.command}: error: {name}: {exc.strerror}", file=sys.stderr)
+        print(f"postprocess {args.command}: error: {_os_error_text(exc)}", file=sys.stderr)
         return 2
     return 0
+
+
+def _os_error_text(exc):
+    """One line for an OSError: 'FILE: reason' (the reason alone when no file is known)."""
+    reason = exc.strerror or str(exc) or type(exc).__name__
+    return f"{exc.filename}: {reason}" if exc.filename else reason
 
 
 if __name__ == "__main__":

@@ -6,6 +6,7 @@ moment when the dump has them. Point data: id, type and any other node-dump colu
 """
 
 import os
+import re
 from xml.sax.saxutils import quoteattr
 
 import numpy as np
@@ -13,7 +14,7 @@ import numpy as np
 from . import dumps
 from .datafile import ATOM_FIELDS, read_data
 from .errors import PostprocessError
-from .output import atomic_dir, atomic_path, write_text
+from .output import Outputs, atomic_path
 
 OPTIONAL_BOND_DATA = ("length0", "length", "shear", "moment")
 
@@ -25,14 +26,15 @@ def bond_keys(first, second):
     return (np.minimum(first, second) << 32) | np.maximum(first, second)
 
 
-def write_mesh(path, points, cells, point_data, cell_data, binary=True):
-    """Write one .vtu atomically with meshio (cells: (n, 2) point indices of line cells)."""
+def write_mesh(path, points, cells, point_data, cell_data, binary=True, label=None):
+    """Write one .vtu atomically with meshio (cells: (n, 2) point indices of line cells);
+    ``label``: the name errors give (the final path of a frame written in a temporary folder)."""
     import meshio
     mesh = meshio.Mesh(points=np.asarray(points, dtype=float),
                        cells=[("line", np.asarray(cells, dtype=np.int64).reshape(-1, 2))],
                        point_data=point_data,
                        cell_data={name: [value] for name, value in cell_data.items()})
-    with atomic_path(path, ".vtu") as tmp:
+    with atomic_path(path, ".vtu", label) as tmp:
         meshio.write(tmp, mesh, file_format="vtu", binary=binary)
 
 
@@ -105,21 +107,38 @@ def frame_arrays(frame, mapping, nodes, reference):
 
 def series_paths(out):
     """OUT.pvd and the folder OUT/ that holds the frames."""
+    out = str(out)
     pvd = out if out.endswith(".pvd") else out + ".pvd"
     folder = pvd[:-4]
+    if out.endswith(("/", os.sep)) or not os.path.basename(folder):
+        raise PostprocessError(f"--out: expected the series file name (e.g. DIR/wirenet.pvd), "
+                               f"got '{out}'")
     return pvd, folder
 
 
+def frame_name_pattern(stem):
+    """The names of the frames of series ``stem`` in its folder (anything else there is not
+    ours, and the folder is then not replaced)."""
+    return re.compile(re.escape(stem) + r"_\d{10}\.vtu")
+
+
 def run(args):
-    """The ``vtu`` subcommand."""
+    """The ``vtu`` subcommand.
+
+    The frames folder and the .pvd are committed together once every frame is written: on any
+    error neither is created or changed.
+    """
     if not args.dt > 0:
         raise PostprocessError(f"--dt must be positive, got {args.dt}")
-    nodes = dumps.NodeSeries(args.nodes)
-    reference = Reference.from_data(read_data(args.data)) if args.data else None
     pvd, folder = series_paths(args.out)
     stem = os.path.basename(folder)
+    ours = frame_name_pattern(stem)
+    nodes = dumps.NodeSeries(args.nodes)
+    reference = Reference.from_data(read_data(args.data)) if args.data else None
     entries = {}
-    with atomic_dir(folder) as tmp:
+    with Outputs() as outputs:
+        tmp = outputs.directory(folder, replaceable=lambda name: ours.fullmatch(name))
+        pvd_tmp = outputs.file(pvd)
         for frame in dumps.iter_files(args.bonds):
             mapping = dumps.bond_column_map(frame)
             dumps.require_columns(frame, mapping, ("atom1", "atom2", "type", "tension"),
@@ -129,11 +148,12 @@ def run(args):
             at_step = nodes.at_step(frame.step, frame.path, frame.header_line)
             arrays = frame_arrays(frame, mapping, at_step, reference)
             name = f"{stem}_{frame.step:010d}.vtu"
-            write_mesh(os.path.join(tmp, name), *arrays, binary=not args.ascii)
+            write_mesh(os.path.join(tmp, name), *arrays, binary=not args.ascii,
+                       label=os.path.join(folder, name))
             entries[frame.step] = f"{stem}/{name}"
         series = [(step * args.dt, entries[step]) for step in sorted(entries)]
-        text = pvd_text(series)
-    write_text(pvd, text)
+        with open(pvd_tmp, "w", encoding="utf-8") as handle:
+            handle.write(pvd_text(series))
     print(f"wrote {pvd}: {len(series)} frames in {folder}/")
 
 

@@ -1,6 +1,7 @@
 """Malformed, truncated, empty inputs and missing columns: one-line error naming file and line,
 exit code 2, no output file (and no temporary left behind)."""
 
+import json
 import os
 import subprocess
 import sys
@@ -202,3 +203,110 @@ run 0
 """)
     liggghts.run(deck, tmp_path / "run")
     assert "Reading STL file" in (tmp_path / "run" / "screen.txt").read_text()
+
+
+# --- file modes: every output honours the umask (issue #14) --------------------------------
+
+def _modes_run(tmp_path, mask):
+    """zone, vtu, report and calibrate under ``mask``; {relative path: mode} of what they wrote."""
+    work = tmp_path / f"umask{mask:03o}"
+    work.mkdir()
+    (work / "bonds.dump").write_text(GOOD)
+    (work / "nodes.dump").write_text(synthetic.node_dump_text(
+        [(s, [(1, 1, 0, 0, 0), (2, 1, 1, 0, 0), (3, 1, 2, 0, 0)]) for s in (1000, 2000)]))
+    study = work / "study"
+    for fraction in (0.0, 1.0):
+        case = study / f"calib_{fraction:g}"
+        case.mkdir(parents=True)
+        (case / "platter.csv").write_text(
+            "time,displacement,force\n" + "".join(f"{d},{d},{d * (1 + fraction)}\n"
+                                                  for d in range(6)))
+        (case / "case.json").write_text(json.dumps({"bending": fraction}))
+    (work / "measured.csv").write_text("displacement,force\n" + "".join(
+        f"{d},{d * 1.5}\n" for d in range(6)))
+    commands = [
+        ["zone", "bonds.dump", "--dt", "1", "-o", "out/zone.csv"],
+        ["vtu", "--nodes", "nodes.dump", "--bonds", "bonds.dump", "-o", "out/vtk/series.pvd"],
+        ["report", "study", "--no-figures"],
+        ["calibrate", "measured.csv", "--cases", str(study / "calib_0"), str(study / "calib_1"),
+         "-o", "out/fit"],
+    ]
+    before = {p for p in work.rglob("*")}
+    for command in commands:
+        result = subprocess.run([sys.executable, "-m", "postprocess", *command], cwd=work,
+                                capture_output=True, text=True,
+                                env={**os.environ, "PYTHONPATH": str(ROOT)},
+                                preexec_fn=lambda: os.umask(mask))
+        assert result.returncode == 0, (command, result.stderr)
+    return {str(p.relative_to(work)): p.stat().st_mode & 0o777
+            for p in work.rglob("*") if p not in before}
+
+
+@pytest.mark.parametrize("mask,file_mode,dir_mode", [(0o022, 0o644, 0o755), (0o077, 0o600, 0o700)])
+def test_outputs_honour_the_umask(tmp_path, mask, file_mode, dir_mode):
+    modes = _modes_run(tmp_path, mask)
+    expected = {"out/zone.csv", "out/vtk/series.pvd", "out/vtk/series",
+                "out/vtk/series/series_0000001000.vtu", "study/report.md", "study/summary.json",
+                "out/fit.json", "out/fit.png", "out/fit.svg"}
+    assert expected <= set(modes)
+    for name, mode in modes.items():
+        is_dir = (tmp_path / f"umask{mask:03o}" / name).is_dir()
+        assert mode == (dir_mode if is_dir else file_mode), (name, oct(mode))
+
+
+def test_write_json_is_strict(tmp_path):
+    from postprocess import output
+    path = tmp_path / "x.json"
+    output.write_json(path, {"a": float("nan"), "b": [1.0, float("inf")], "c": {"d": -float("inf")}})
+    text = path.read_text()
+    assert "NaN" not in text and "Infinity" not in text
+    assert json.loads(text) == {"a": None, "b": [1.0, None], "c": {"d": None}}
+
+
+# --- atomic outputs: errors name the user's path, never a temporary --------------------------
+
+def test_output_file_that_is_a_directory(tmp_path, capsys):
+    (tmp_path / "out").mkdir()
+    (tmp_path / "out" / "zone_forces.csv").mkdir()
+    code, err, _ = run_zone(tmp_path, capsys, GOOD)
+    assert code == 2 and err.count("\n") == 1
+    assert err == (f"postprocess zone: error: {tmp_path / 'out' / 'zone_forces.csv'}: is a "
+                   f"directory (an output file was expected)\n")
+    assert ".tmp" not in err
+    assert os.listdir(tmp_path / "out") == ["zone_forces.csv"]
+
+
+def test_unwritable_output_folder_names_the_target(tmp_path, capsys):
+    (tmp_path / "out").write_text("a file, not a folder\n")
+    dump = tmp_path / "bonds.dump"
+    dump.write_text(GOOD)
+    target = tmp_path / "out" / "z.csv"
+    code = main(["zone", str(dump), "--dt", "1", "-o", str(target)])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1
+    assert err.startswith(f"postprocess zone: error: {target}: cannot create its folder ")
+    assert ".tmp" not in err
+
+
+def test_failed_commit_restores_every_previous_output(tmp_path, monkeypatch):
+    """Outputs: if the second rename fails, the first target gets its old content back."""
+    from postprocess import output
+    from postprocess.errors import PostprocessError
+    (tmp_path / "a.txt").write_text("old a\n")
+    (tmp_path / "b.txt").write_text("old b\n")
+    real = os.replace
+
+    def failing(src, dst):
+        if str(dst).endswith("b.txt") and ".tmp" in str(src):
+            raise OSError(28, "No space left on device", str(src))
+        return real(src, dst)
+    monkeypatch.setattr(output.os, "replace", failing)
+    with pytest.raises(PostprocessError) as caught:
+        with output.Outputs() as outputs:
+            for name in ("a.txt", "b.txt"):
+                with open(outputs.file(str(tmp_path / name)), "w") as handle:
+                    handle.write("new\n")
+    assert str(caught.value) == f"{tmp_path / 'b.txt'}: cannot write: No space left on device"
+    assert (tmp_path / "a.txt").read_text() == "old a\n"
+    assert (tmp_path / "b.txt").read_text() == "old b\n"
+    assert sorted(os.listdir(tmp_path)) == ["a.txt", "b.txt"]

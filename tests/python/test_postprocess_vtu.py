@@ -111,3 +111,107 @@ def test_data2vtu_bad_bond_line(run_dir, capsys):
     err = capsys.readouterr().err
     assert err == f"postprocess data2vtu: error: {data}:23: expected 4 columns in Bonds, got 3\n"
     assert not (run_dir / "x.vtu").exists()
+
+
+def test_ascii_option_writes_ascii_xml(run_dir, monkeypatch):
+    """--ascii: every DataArray is inline ASCII text; without it none is."""
+    monkeypatch.chdir(run_dir)
+    base = ["vtu", "--nodes", "nodes.dump", "--bonds", "bonds.dump"]
+    assert main([*base, "--ascii", "-o", "a.pvd"]) == 0
+    assert main([*base, "-o", "b.pvd"]) == 0
+    text = (run_dir / "a" / "a_0000000100.vtu").read_text()
+    root = ET.fromstring(text)
+    arrays = root.iter("DataArray")
+    formats = {a.get("format") for a in arrays}
+    assert formats == {"ascii"}
+    tension = next(a for a in root.iter("DataArray") if a.get("Name") == "tension")
+    assert [float(v) for v in tension.text.split()] == [10.5, -2.0, 7.25]
+    binary = (run_dir / "b" / "b_0000000100.vtu").read_bytes()
+    formats = {a.get("format") for a in ET.fromstring(binary).iter("DataArray")}
+    assert "ascii" not in formats and formats <= {"binary", "appended"}
+
+
+def test_data_bonds_missing_from_every_frame_are_broken(run_dir, monkeypatch):
+    """--data: a data-file bond absent from the first frame already is a broken cell (the
+    first-frame reference would not know it)."""
+    monkeypatch.chdir(run_dir)
+    atoms = [(i, t, x, y, z, 0.01, 7850, 1) for i, t, x, y, z, _ in sorted(NODES_100)]
+    bonds = [(k + 1, t, a, b) for k, (a, b, t, _, _) in enumerate(BONDS_100)] + [(4, 3, 3, 4)]
+    (run_dir / "panel.data").write_text(synthetic.data_file_text(atoms, bonds))
+    base = ["vtu", "--nodes", "nodes.dump", "--bonds", "bonds.dump"]
+    assert main([*base, "--data", "panel.data", "-o", "with.pvd"]) == 0
+    assert main([*base, "-o", "without.pvd"]) == 0
+    first = meshio.read(run_dir / "with" / "with_0000000100.vtu")
+    np.testing.assert_array_equal(first.cells[0].data, [[0, 1], [1, 2], [1, 3], [2, 3]])
+    np.testing.assert_array_equal(first.cell_data["broken"][0], [0, 0, 0, 1])
+    np.testing.assert_array_equal(first.cell_data["family"][0], [1, 2, 4, 3])
+    np.testing.assert_array_equal(first.cell_data["tension"][0], [10.5, -2.0, 7.25, 0.0])
+    second = meshio.read(run_dir / "with" / "with_0000000200.vtu")
+    np.testing.assert_array_equal(second.cell_data["broken"][0], [0, 0, 1, 1])
+    plain = meshio.read(run_dir / "without" / "without_0000000100.vtu")
+    assert len(plain.cells[0].data) == 3
+
+
+def _listing(folder):
+    return sorted(str(p.relative_to(folder)) for p in folder.rglob("*"))
+
+
+def test_out_naming_a_folder_of_the_user_is_refused(run_dir, capsys):
+    """--out DIR where DIR holds the user's files: nothing is replaced or written."""
+    (run_dir / "results").mkdir()
+    (run_dir / "results" / "notes.txt").write_text("mine\n")
+    before = _listing(run_dir)
+    code = main(["vtu", "--nodes", str(run_dir / "nodes.dump"), "--bonds",
+                 str(run_dir / "bonds.dump"), "-o", str(run_dir / "results")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1 and "Traceback" not in err
+    assert err.startswith(f"postprocess vtu: error: {run_dir / 'results'}: the folder exists "
+                          f"and holds 1 entry that this command did not write (e.g. 'notes.txt')")
+    assert _listing(run_dir) == before
+
+
+def test_out_with_a_trailing_slash_is_refused(run_dir, capsys):
+    before = _listing(run_dir)
+    code = main(["vtu", "--nodes", str(run_dir / "nodes.dump"), "--bonds",
+                 str(run_dir / "bonds.dump"), "-o", str(run_dir) + "/"])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1
+    assert "--out: expected the series file name (e.g. DIR/wirenet.pvd)" in err
+    assert _listing(run_dir) == before
+
+
+def test_pvd_that_cannot_be_written_leaves_no_frames(run_dir, capsys):
+    (run_dir / "series.pvd").mkdir()
+    before = _listing(run_dir)
+    code = main(["vtu", "--nodes", str(run_dir / "nodes.dump"), "--bonds",
+                 str(run_dir / "bonds.dump"), "-o", str(run_dir / "series.pvd")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1
+    assert err == (f"postprocess vtu: error: {run_dir / 'series.pvd'}: is a directory (an "
+                   f"output file was expected)\n")
+    assert _listing(run_dir) == before
+
+
+def test_failed_pvd_rename_keeps_the_previous_series(run_dir, monkeypatch, capsys):
+    """The frames folder and the .pvd are committed together: if the .pvd cannot be renamed
+    into place, the previous frames folder is restored."""
+    from postprocess import output
+    monkeypatch.chdir(run_dir)
+    args = ["vtu", "--nodes", "nodes.dump", "--bonds", "bonds.dump", "-o", "series.pvd"]
+    assert main(args) == 0
+    (run_dir / "series" / "series_0000000100.vtu").write_text("previous\n")
+    old_pvd = (run_dir / "series.pvd").read_text()
+    before = _listing(run_dir)
+    real = output.os.replace
+
+    def failing(src, dst):
+        if str(dst) == "series.pvd" and ".tmp" in str(src):
+            raise OSError(28, "No space left on device", str(src))
+        return real(src, dst)
+    monkeypatch.setattr(output.os, "replace", failing)
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err == "postprocess vtu: error: series.pvd: cannot write: No space left on device\n"
+    assert _listing(run_dir) == before
+    assert (run_dir / "series" / "series_0000000100.vtu").read_text() == "previous\n"
+    assert (run_dir / "series.pvd").read_text() == old_pvd

@@ -15,20 +15,26 @@ downloads=$2
 
 die() { echo "fetch_liggghts: error: $*" >&2; exit 1; }
 
+# What the unpacked tree depends on: the tarball, the patches and the recipe version below (bump
+# it when the unpack steps change). Not this whole script: how the tarball is obtained does not
+# change the tree, and re-extracting means a full 7-minute rebuild.
+TREE_RECIPE=2
 stamp_text() {
-  { echo "$LIGGGHTS_SHA256"; cat "$here"/patches/*.patch "$here/fetch_liggghts.sh"; } | sha256sum | cut -d' ' -f1
+  { echo "$LIGGGHTS_SHA256 recipe $TREE_RECIPE"; cat "$here"/patches/*.patch; } | sha256sum | cut -d' ' -f1
 }
 
 sha_ok() { [ -f "$1" ] && [ "$(sha256sum "$1" | cut -d' ' -f1)" = "$LIGGGHTS_SHA256" ]; }
 
-# URL of the orig tarball as apt knows it (needs a deb-src entry), else Debian's pool.
+# URL of the orig tarball as apt knows it from the machine's deb-src entries (./wirenet setup
+# derives one from the deb entries when there is none). No archive host is written here: a
+# mirror configured in apt is used as it is.
 tarball_url() {
-  local url=""
-  if command -v apt-get >/dev/null 2>&1; then
-    url=$(apt-get source --print-uris "$LIGGGHTS_PACKAGE" 2>/dev/null |
-          awk -v t="$LIGGGHTS_TARBALL" '$2 == t { gsub("\047", "", $1); print $1 }' | head -n1)
-  fi
-  echo "${url:-$LIGGGHTS_POOL_URL}"
+  command -v apt-get >/dev/null 2>&1 || die "apt-get not found: set WIRENET_LIGGGHTS_TARBALL to a local $LIGGGHTS_TARBALL"
+  local url
+  url=$(apt-get source --print-uris "$LIGGGHTS_PACKAGE" 2>/dev/null |
+        awk -v t="$LIGGGHTS_TARBALL" '$2 == t { gsub("\047", "", $1); print $1 }' | head -n1)
+  [ -n "$url" ] || die "apt knows no source of $LIGGGHTS_PACKAGE ($LIGGGHTS_TARBALL): add a deb-src entry (./wirenet setup does it as root) and run apt-get update, or set WIRENET_LIGGGHTS_TARBALL to a local copy"
+  echo "$url"
 }
 
 download() {
@@ -47,7 +53,7 @@ obtain_tarball() {
   fi
   if ! sha_ok "$tb"; then
     mkdir -p "$downloads"
-    local url; url=$(tarball_url)
+    local url; url=$(tarball_url) || exit 1
     echo "fetch_liggghts: downloading $url" >&2
     download "$url" "$tb.part" || { rm -f "$tb.part"; die "could not download $url (is Debian's archive reachable?)"; }
     sha_ok "$tb.part" || { rm -f "$tb.part"; die "$LIGGGHTS_TARBALL: sha256 mismatch (expected $LIGGGHTS_SHA256)"; }

@@ -2,7 +2,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
+#include <new>
 #include <sstream>
 
 #include "AtomicFile.h"
@@ -63,6 +65,84 @@ void addBox(Options& o, double margin, double zlo, double zhi, const std::string
     }
 }
 
+// Models larger than this are refused unless --max-nodes raises the limit: a typing slip such
+// as --width 1e6 would otherwise allocate until the machine runs out of memory.
+constexpr long kDefaultMaxNodes = 5000000;
+// Peak memory per node of a run, measured on hex (about 290 B), square (150 B) and beam (80 B).
+constexpr double kBytesPerNode = 300;
+
+void addMaxNodes(Options& o) {
+    o.addInt("max-nodes", kDefaultMaxNodes, 1,
+             "refuse a model estimated above this many nodes (about 300 bytes of memory per node)");
+}
+
+std::string fmt3(double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.3g", v);
+    return buf;
+}
+
+// Memory the system can still give (MemAvailable), in bytes; 0 if unknown.
+double availableMemory() {
+    std::ifstream in("/proc/meminfo");
+    std::string key;
+    double kb = 0;
+    std::string unit;
+    while (in >> key >> kb >> unit)
+        if (key == "MemAvailable:") return kb * 1024.0;
+    return 0;
+}
+
+// Size guard, before anything is allocated: the estimated node count against --max-nodes and
+// the estimated memory against what the machine has.
+void checkSize(const Options& o, double nodes) {
+    const long limit = o.integer("max-nodes");
+    const double bytes = nodes * kBytesPerNode;
+    const std::string values = o.givenExcept("out");
+    const std::string what = values.empty() ? "the defaults give" : values + " gives";
+    if (!(nodes <= double(limit)))
+        throw UsageError(what + " about " + fmt3(nodes) + " nodes (about " + fmt3(bytes / 1073741824.0) +
+                         " GiB of memory), more than --max-nodes " + std::to_string(limit) +
+                         " (give --max-nodes N to allow more)");
+    const double avail = availableMemory();
+    if (bytes > 256.0 * 1048576.0 && avail > 0 && bytes > avail)
+        throw UsageError(what + " about " + fmt3(nodes) + " nodes, which need about " +
+                         fmt3(bytes / 1073741824.0) + " GiB of memory, more than the " +
+                         fmt3(avail / 1073741824.0) + " GiB available");
+}
+
+// Derived quantities (positions, masses, densities, the box) must be finite before anything is
+// written: extreme but finite option values can still overflow or underflow in them.
+void checkModel(const Options& o, const NetModel& m, const Box& box) {
+    const std::string values = o.givenExcept("out");
+    auto bad = [&](const std::string& what, double v) {
+        throw UsageError(what + " is not a finite positive number (got " + fmt(v) + ") with " +
+                         (values.empty() ? std::string("the defaults") : values));
+    };
+    for (size_t i = 0; i < m.nodes.size(); ++i) {
+        const Node& n = m.nodes[i];
+        const std::string atom = "atom " + std::to_string(i + 1);
+        for (int k = 0; k < 3; ++k)
+            if (!std::isfinite(n.x[k])) bad(atom + " coordinate", n.x[k]);
+        if (!(std::isfinite(n.diameter) && n.diameter > 0)) bad(atom + " diameter", n.diameter);
+        if (!(std::isfinite(n.mass) && n.mass > 0)) bad(atom + " mass", n.mass);
+        const double density = n.mass / (M_PI * n.diameter * n.diameter * n.diameter / 6.0);
+        if (!(std::isfinite(density) && density > 0)) bad(atom + " density", density);
+    }
+    for (int k = 0; k < 3; ++k) {
+        if (!std::isfinite(box.lo[k])) bad("box lower bound", box.lo[k]);
+        if (!std::isfinite(box.hi[k])) bad("box upper bound", box.hi[k]);
+    }
+    const double mass = m.totalMass();
+    if (!(std::isfinite(mass) && mass > 0)) bad("total mass", mass);
+}
+
+void checkPanelOut(const std::string& out) {
+    if (!out.empty() && out.back() == '/')
+        throw UsageError("--out must be a file prefix, not a folder (got " + out + ")");
+    AtomicFile::checkTargets({out + ".data", out + ".json"});
+}
+
 // ---- parameter extraction and checks --------------------------------------------------------
 
 std::string requireOut(const Options& o) {
@@ -86,9 +166,8 @@ HexParams hexParams(const Options& o, const std::string& pre) {
     if (mass == "wire") {
         p.massRule = HexParams::Mass::FromWire;
     } else {
-        char* end = nullptr;
-        const double v = std::strtod(mass.c_str(), &end);
-        if (*end != '\0' || !std::isfinite(v) || !(v > 0))
+        double v = 0;
+        if (!parseFinite(mass, v) || !(v > 0) || v > kMaxMagnitude)
             throw UsageError("--" + pre + "node-mass must be a number > 0 or 'wire' (got " + mass + ")");
         p.nodeMass = v;
     }
@@ -206,6 +285,7 @@ void finishPanel(const std::string& sub, const Options& o, const NetModel& m, Ne
     d.height = o.num("height");
     d.area = d.width * d.height;
     d.box = panelBox(o, m);
+    checkModel(o, m, d.box);
     MeshWriter(m, d).write(out);
     std::cout << summary(sub, m, d) << "\n  -> " << out << ".data, " << out << ".json\n";
 }
@@ -219,10 +299,12 @@ int runHex(const std::vector<std::string>& args) {
     addPanelSize(o);
     addHexOptions(o, "");
     addBox(o, 0.2, -2.0, 1.0, "");
+    addMaxNodes(o);
     o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json)");
     if (!o.parse(args)) { std::cout << o.help(); return 0; }
-    requireOut(o);
+    checkPanelOut(requireOut(o));
     const HexParams p = hexParams(o, "");
+    checkSize(o, HexPanel::estimateNodes(p));
     const NetModel m = HexPanel(p).build();
     NetDescription d = panelDescription("hex");
     describeHex(d, p, m);
@@ -237,10 +319,12 @@ int runSquare(const std::vector<std::string>& args) {
     addPanelSize(o);
     addSquareOptions(o, "");
     addBox(o, 0.2, -2.0, 1.0, "");
+    addMaxNodes(o);
     o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json)");
     if (!o.parse(args)) { std::cout << o.help(); return 0; }
-    requireOut(o);
+    checkPanelOut(requireOut(o));
     const SquareParams p = squareParams(o, "");
+    checkSize(o, SquarePanel::estimateNodes(p));
     const NetModel m = SquarePanel(p).build();
     NetDescription d = panelDescription("square");
     describeSquare(d, p, m);
@@ -257,13 +341,15 @@ int runCompound(const std::vector<std::string>& args) {
     addSquareOptions(o, "square-");
     o.addInt("ties", 0, 0, "tie every k-th interior crossing (in x and y) to the nearest hex node; 0 = none");
     addBox(o, 0.2, -2.0, 1.0, "");
+    addMaxNodes(o);
     o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json)");
     if (!o.parse(args)) { std::cout << o.help(); return 0; }
-    requireOut(o);
+    checkPanelOut(requireOut(o));
     CompoundParams p;
     p.hex = hexParams(o, "hex-");
     p.square = squareParams(o, "square-");
     p.tieEvery = int(o.integer("ties"));
+    checkSize(o, HexPanel::estimateNodes(p.hex) + SquarePanel::estimateNodes(p.square));
     CompoundPanel panel(p);
     const NetModel m = panel.build();
     NetDescription d = panelDescription("compound");
@@ -284,15 +370,18 @@ int runBeam(const std::vector<std::string>& args) {
     o.addOptionalNumber("node-diameter", "m", "node sphere diameter", Bound::Positive, "beam diameter");
     o.addNumber("density", 7850.0, "kg/m3", "density of the cylinder, lumped to the nodes");
     addBox(o, 0.1, 0, 0, "-length");
+    addMaxNodes(o);
     o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json)");
     if (!o.parse(args)) { std::cout << o.help(); return 0; }
     const std::string out = requireOut(o);
+    checkPanelOut(out);
     BeamParams p;
     p.length = o.num("length");
     p.elements = int(o.integer("elements"));
     p.diameter = o.num("diameter");
     p.nodeDiameter = o.isSet("node-diameter") ? o.num("node-diameter") : p.diameter;
     p.density = o.num("density");
+    checkSize(o, p.elements + 1.0);
     const NetModel m = Beam(p).build();
 
     NetDescription d;
@@ -316,6 +405,7 @@ int runBeam(const std::vector<std::string>& args) {
     d.box.hi << p.length + o.num("margin-x"), o.num("margin-y"), zhi;
     if (!(d.box.lo.y() < d.box.hi.y()))
         throw UsageError("--margin-y must be > 0 for a beam (got " + o.str("margin-y") + ")");
+    checkModel(o, m, d.box);
     MeshWriter(m, d).write(out);
     std::cout << summary("beam", m, d) << "\n  -> " << out << ".data, " << out << ".json\n";
     return 0;
@@ -362,13 +452,17 @@ int runShape(const std::vector<std::string>& args) {
         o.addNumber("side", 0.45, "m", "cube side");
         o.addOptionalNumber("corner-cut", "m", "length cut off each cube edge at every corner", Bound::Positive, "side/3");
     }
-    if (!cube) o.addInt("resolution", 96, 8, "segments around the axis, dome rings = resolution/4 (>= 64 keeps the volume within 0.5 %)");
+    // 1024 segments: about 0.5 million facets (130 MB of ASCII STL) for the spheroid.
+    if (!cube) o.addInt("resolution", 96, 8, "segments around the axis, dome rings = resolution/4 (>= 64 keeps the volume within 0.5 %)", 1024);
     if (cube) o.addNumber("mass", 44.5, "kg", "mass for the inertia tensor");
     else o.addOptionalNumber("mass", "kg", "mass for the inertia tensor", Bound::Positive, "none");
     o.addString("out", "required", "output STL file (also writes FILE.json)");
     std::vector<std::string> rest(args.begin() + 1, args.end());
     if (!o.parse(rest)) { std::cout << o.help(); return 0; }
     const std::string out = requireOut(o);
+    if (jsonPathFor(out) == out)
+        throw UsageError("--out must name the STL file, not its .json (got " + out + ")");
+    AtomicFile::checkTargets({out, jsonPathFor(out)});
 
     TriMesh mesh;
     double analytic = 0;
@@ -398,6 +492,25 @@ int runShape(const std::vector<std::string>& args) {
     const double scale = mesh.vertices.empty() ? 1.0 : (mesh.vertices[0] - mp.centroid).norm();
     for (int i = 0; i < 3; ++i)
         if (std::abs(mp.centroid[i]) < 1e-12 * scale) mp.centroid[i] = 0;
+    {
+        const std::string values = o.givenExcept("out");
+        auto bad = [&](const std::string& what, double v) {
+            throw UsageError("the shape's " + what + " is not a finite positive number (got " + fmt(v) +
+                             ") with " + (values.empty() ? std::string("the defaults") : values));
+        };
+        if (!(std::isfinite(mp.volume) && mp.volume > 0)) bad("volume", mp.volume);
+        if (!(std::isfinite(analytic) && analytic > 0)) bad("analytic volume", analytic);
+        for (int i = 0; i < 3; ++i)
+            if (!std::isfinite(mp.centroid[i])) bad("centroid", mp.centroid[i]);
+        if (mass > 0) {
+            if (!(std::isfinite(mass / mp.volume))) bad("density", mass / mp.volume);
+            for (int i = 0; i < 9; ++i)
+                if (!std::isfinite(mp.inertia(i))) bad("inertia", mp.inertia(i));
+        }
+        for (const auto& v : mesh.vertices)
+            for (int i = 0; i < 3; ++i)
+                if (!std::isfinite(v[i])) bad("vertex coordinate", v[i]);
+    }
     const double imax = mp.inertia.cwiseAbs().maxCoeff();
     mp.inertia = mp.inertia.unaryExpr([imax](double v) { return std::abs(v) < 1e-12 * imax ? 0.0 : v; });
 
@@ -414,10 +527,7 @@ int runShape(const std::vector<std::string>& args) {
     AtomicFile stl(out), meta(jsonPathFor(out));
     StlWriter::write(stl.stream(), mesh, kind);
     meta.stream() << j.dump(2) << "\n";
-    stl.close();
-    meta.close();
-    stl.commit();
-    meta.commit();
+    AtomicFile::commitAll({&stl, &meta});
 
     std::cout << "wirenet-gen shape " << kind << ": " << mesh.faces.size() << " facets, volume "
               << fmt(mp.volume) << " m3 (analytic " << fmt(analytic) << ", "
@@ -461,6 +571,15 @@ int runCli(const std::vector<std::string>& args) {
     } catch (const UsageError& e) {
         std::cerr << "wirenet-gen " << label << ": error: " << e.what() << "\n";
         return 2;
+    } catch (const std::bad_alloc&) {
+        // Temporary files are gone: their destructors ran while the exception unwound.
+        std::cerr << "wirenet-gen " << label
+                  << ": error: out of memory (the model is too large for this machine;"
+                     " use smaller sizes)\n";
+        return 2;
+    } catch (const std::exception& e) {
+        std::cerr << "wirenet-gen " << label << ": error: internal error: " << e.what() << "\n";
+        return 1;
     }
 }
 

@@ -147,6 +147,14 @@ private:
 
 }  // namespace
 
+double HexPanel::estimateNodes(const HexParams& p) {
+    // Same K and Q as build(): two nodes per twist, twists on half of the (2K+1) x (2Q+1) slots.
+    const double pitch = p.rowPitch(), half = 0.5 * p.axisDistance;
+    const double K = std::ceil((0.5 * p.height + pitch) / pitch) + 1;
+    const double Q = std::ceil(0.5 * p.width / half) + 2;
+    return (2 * K + 1) * (2 * Q + 1);
+}
+
 NetModel HexPanel::build() const {
     const double X = 0.5 * p_.width, Y = 0.5 * p_.height;
     const double half = 0.5 * p_.axisDistance, pitch = p_.rowPitch(), t = p_.twistLength;

@@ -29,6 +29,9 @@ class HexPanel {
 public:
     explicit HexPanel(const HexParams& p) : p_(p) {}
     NetModel build() const;
+    // Nodes build() allocates (the whole lattice before clipping), computed in floating point
+    // so that it can be checked before anything is allocated.
+    static double estimateNodes(const HexParams& p);
     // Mass per node actually used for a model with n nodes and the given wire lengths.
     double nodeMass(const NetModel& m) const;
     // Total wire length per bond family (DT counted once, it holds two wires).

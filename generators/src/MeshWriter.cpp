@@ -82,13 +82,11 @@ Json MeshWriter::metadata() const {
 }
 
 void MeshWriter::write(const std::string& prefix) const {
+    AtomicFile::checkTargets({prefix + ".data", prefix + ".json"});
     AtomicFile data(prefix + ".data"), meta(prefix + ".json");
     writeData(data.stream());
     meta.stream() << metadata().dump(2) << "\n";
-    data.close();
-    meta.close();
-    data.commit();
-    meta.commit();
+    AtomicFile::commitAll({&data, &meta});
 }
 
 }  // namespace wirenet

@@ -33,11 +33,23 @@ void Options::addOptionalNumber(const std::string& name, const std::string& unit
     specs_[name] = s;
 }
 
-void Options::addInt(const std::string& name, long def, long minValue, const std::string& help) {
+bool parseFinite(const std::string& text, double& value) {
+    if (text.empty()) return false;
+    char* end = nullptr;
+    errno = 0;
+    const double v = std::strtod(text.c_str(), &end);
+    if (*end != '\0' || errno == ERANGE || !std::isfinite(v)) return false;
+    value = v;
+    return true;
+}
+
+void Options::addInt(const std::string& name, long def, long minValue, const std::string& help,
+                     long maxValue) {
     Spec s{Kind::Int, "-", help, std::to_string(def), ""};
     s.def = s.text;
     s.integer = def;
     s.minInt = minValue;
+    s.maxInt = maxValue;
     order_.push_back(name);
     specs_[name] = s;
 }
@@ -70,11 +82,18 @@ void Options::assign(const std::string& name, Spec& s, const std::string& value)
             throw UsageError(opt + " must be an integer (got " + value + ")");
         if (v < s.minInt)
             throw UsageError(opt + " must be >= " + std::to_string(s.minInt) + " (got " + value + ")");
+        if (v > s.maxInt)
+            throw UsageError(opt + " must be <= " + std::to_string(s.maxInt) + " (got " + value + ")");
         s.integer = v;
     } else {
-        double v = std::strtod(value.c_str(), &end);
-        if (value.empty() || *end != '\0' || errno == ERANGE || !std::isfinite(v))
-            throw UsageError(opt + " must be a number (got " + value + ")");
+        double v = 0;
+        if (!parseFinite(value, v)) throw UsageError(opt + " must be a number (got " + value + ")");
+        if (std::abs(v) > kMaxMagnitude) {
+            if (s.bound == Bound::Any)
+                throw UsageError(opt + " must be between -" + fmt(kMaxMagnitude) + " and " +
+                                 fmt(kMaxMagnitude) + " (got " + value + ")");
+            throw UsageError(opt + " must be <= " + fmt(kMaxMagnitude) + " (got " + value + ")");
+        }
         if (s.bound == Bound::Positive && !(v > 0))
             throw UsageError(opt + " must be > 0 (got " + value + ")");
         if (s.bound == Bound::NonNegative && !(v >= 0))
@@ -106,8 +125,16 @@ bool Options::parse(const std::vector<std::string>& args) {
         assign(name, it->second, value);
         it->second.given = true;
         given_ += (given_.empty() ? "--" : " --") + name + " " + value;
+        givenPairs_.emplace_back(name, value);
     }
     return true;
+}
+
+std::string Options::givenExcept(const std::string& name) const {
+    std::string s;
+    for (const auto& kv : givenPairs_)
+        if (kv.first != name) s += (s.empty() ? "--" : " --") + kv.first + " " + kv.second;
+    return s;
 }
 
 double Options::num(const std::string& name) const { return spec(name).number; }

@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+#include <utility>
 
 namespace wirenet {
 
@@ -16,6 +17,12 @@ struct UsageError : std::runtime_error {
 
 enum class Bound { Any, Positive, NonNegative };
 
+// Every number option must lie within +-kMaxMagnitude (1e9 in its SI unit): larger values are
+// typing mistakes, and squares or cubes of them (masses, volumes) would overflow.
+constexpr double kMaxMagnitude = 1e9;
+// Largest integer option (node indices are ints).
+constexpr long kMaxInt = 1000000000;
+
 class Options {
 public:
     explicit Options(std::string subcommand) : sub_(std::move(subcommand)) {}
@@ -26,7 +33,8 @@ public:
     void addOptionalNumber(const std::string& name, const std::string& unit,
                            const std::string& help, Bound bound = Bound::Positive,
                            const std::string& defText = "unset");
-    void addInt(const std::string& name, long def, long minValue, const std::string& help);
+    void addInt(const std::string& name, long def, long minValue, const std::string& help,
+                long maxValue = kMaxInt);
     void addString(const std::string& name, const std::string& def, const std::string& help);
     void setSummary(const std::string& text) { summary_ = text; }
 
@@ -41,6 +49,8 @@ public:
     std::string help() const;
     // "--width 3 --height 3 ..." as given, for file headers.
     const std::string& given() const { return given_; }
+    // The same without one option (e.g. "out"), for messages about the values.
+    std::string givenExcept(const std::string& name) const;
 
     // Checks used by the generators: throw UsageError naming the option.
     void requireLess(const std::string& small, double smallValue, const std::string& big,
@@ -54,7 +64,7 @@ private:
         std::string def;              // default, for --help
         Bound bound = Bound::Any;
         double number = std::numeric_limits<double>::quiet_NaN();
-        long integer = 0, minInt = 0;
+        long integer = 0, minInt = 0, maxInt = kMaxInt;
         bool set = false, given = false;
     };
     const Spec& spec(const std::string& name) const;
@@ -62,10 +72,15 @@ private:
 
     std::string sub_, summary_, given_;
     std::vector<std::string> order_;
+    std::vector<std::pair<std::string, std::string>> givenPairs_;
     std::map<std::string, Spec> specs_;
 };
 
 // Formats a number compactly (%.12g) for messages and headers.
 std::string fmt(double v);
+
+// Parses a whole string as a finite number within +-kMaxMagnitude; false otherwise
+// (strtod alone accepts "inf", "nan" and overflows to inf).
+bool parseFinite(const std::string& text, double& value);
 
 }  // namespace wirenet

@@ -24,6 +24,24 @@ int SquarePanel::elementsFor(double length) const {
     return std::max(1, int(std::lround(p_.elements * length / p_.cell)));
 }
 
+double SquarePanel::estimateNodes(const SquareParams& p) {
+    const double nx = std::ceil(p.width / p.cell) + 2, ny = std::ceil(p.height / p.cell) + 2;
+    const double segments = nx * (ny - 1) + ny * (nx - 1);
+    // Upper bound (a partial edge cell is shorter than 1.5 cells); far above any limit when large.
+    const double bound = nx * ny + (1.5 * p.elements) * segments;
+    if (nx > 1e6 || ny > 1e6 || bound > 1e10) return bound;
+    // Exact count, as build() makes it.
+    const auto xs = ropeLines(0.5 * p.width, p.cell, p.dropFraction);
+    const auto ys = ropeLines(0.5 * p.height, p.cell, p.dropFraction);
+    auto inner = [&](const std::vector<double>& lines) {  // intermediate nodes along one rope
+        double n = 0;
+        for (size_t i = 0; i + 1 < lines.size(); ++i)
+            n += std::max(1.0, double(std::lround(p.elements * (lines[i + 1] - lines[i]) / p.cell))) - 1;
+        return n;
+    };
+    return double(xs.size()) * ys.size() + inner(xs) * ys.size() + inner(ys) * xs.size();
+}
+
 NetModel SquarePanel::build() const {
     const double X = 0.5 * p_.width, Y = 0.5 * p_.height;
     const auto xs = ropeLines(X, p_.cell, p_.dropFraction);

@@ -21,6 +21,8 @@ class SquarePanel {
 public:
     explicit SquarePanel(const SquareParams& p) : p_(p) {}
     NetModel build() const;
+    // Upper estimate of the nodes of build(), computed in floating point before allocating.
+    static double estimateNodes(const SquareParams& p);
     // Rope positions along one axis (sorted, both edges included).
     static std::vector<double> ropeLines(double half, double cell, double dropFraction);
     // Crossing node index of rope lines (i along x, j along y) in the last build().

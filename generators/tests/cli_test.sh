@@ -9,11 +9,15 @@ trap 'rm -rf "$WORK"' EXIT
 fails=0
 fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
 
-# bad CMD... EXPECT: runs CMD with --out in an empty directory; EXPECT must appear in the message.
+# bad EXPECT CMD...: runs CMD with --out in an empty directory; EXPECT must appear in the message.
+# PRE='shell command' prepares that directory first (what it makes is not counted as left over);
+# ULIM=KB runs CMD under `ulimit -v KB`.
 bad() {
     local expect=$1; shift
     local dir="$WORK/bad"; rm -rf "$dir"; mkdir -p "$dir"
-    (cd "$dir" && "$GEN" "$@" >stdout.txt 2>stderr.txt); local rc=$?
+    (cd "$dir" && eval "${PRE:-true}") || fail "'$*': PRE failed"
+    local before; before=$(ls -A "$dir")
+    (cd "$dir" && { [ -z "${ULIM:-}" ] || ulimit -v "$ULIM"; } && "$GEN" "$@" >stdout.txt 2>stderr.txt); local rc=$?
     local lines; lines=$(wc -l <"$dir/stderr.txt")
     local msg; msg=$(cat "$dir/stderr.txt")
     [ "$rc" -eq 2 ] || fail "'$*': exit $rc, expected 2"
@@ -21,7 +25,7 @@ bad() {
     [[ "$msg" == "wirenet-gen"*"error: "* ]] || fail "'$*': bad message format: $msg"
     [[ "$msg" == *"$expect"* ]] || fail "'$*': message lacks '$expect': $msg"
     local left; left=$(ls -A "$dir" | grep -v -e '^stdout.txt$' -e '^stderr.txt$')
-    [ -z "$left" ] || fail "'$*': left files: $left"
+    [ "$left" == "$before" ] || fail "'$*': left files: $left"
 }
 
 bad "--width must be > 0 (got -3)"           hex --width -3 --out p
@@ -58,6 +62,39 @@ bad "--side must be > 0 (got -0.45)"         shape truncated-cube --side -0.45 -
 bad "unknown shape blob"                     shape blob --out s.stl
 bad "unknown subcommand hexagon"             hexagon --out p
 bad "--out cannot write"                     hex --out "$WORK/no/such/dir/p"
+
+# Non-finite and out-of-range numbers (strtod accepts inf and nan; issue #14).
+bad "--width must be a number (got inf)"     hex --width inf --out p
+bad "--height must be a number (got nan)"    hex --height=nan --out p
+bad "--rope-mass must be a number (got -inf)" square --rope-mass -inf --out p
+bad "--hex-areal-mass must be a number (got inf)" compound --hex-areal-mass inf --out p
+bad "--mass must be a number (got nan)"      shape truncated-cube --mass nan --out s.stl
+bad "--node-mass must be a number > 0 or 'wire' (got inf)" hex --node-mass inf --out p
+bad "--node-mass must be a number > 0 or 'wire' (got 1e400)" hex --node-mass 1e400 --out p
+bad "--width must be <= 1000000000 (got 1e308)" hex --width 1e308 --out p
+bad "--diameter must be <= 1000000000 (got 1e308)" beam --diameter 1e308 --out p
+bad "--zlo must be between -1000000000 and 1000000000 (got -1e12)" hex --zlo -1e12 --out p
+bad "--elements must be <= 1000000000 (got 99999999999)" beam --elements 99999999999 --out p
+bad "--resolution must be <= 1024 (got 100000)" shape spheroid --resolution 100000 --out s.stl
+bad "--max-nodes must be >= 1 (got 0)"       hex --max-nodes 0 --out p
+# Finite options whose derived quantities over- or underflow.
+bad "atom 1 mass is not a finite positive number (got 0) with --diameter 1e-200" beam --diameter 1e-200 --out p
+bad "atom 1 density is not a finite positive number (got inf) with --node-diameter 1e-120" hex --node-diameter 1e-120 --out p
+bad "volume is not a finite positive number (got 0) with --radius 1e-200 --height 1e-200" shape spheroid --radius 1e-200 --height 1e-200 --out s.stl
+# Size guard: estimated before anything is allocated.
+bad "--width 1e6 --height 1e6 gives about"   hex --width 1e6 --height 1e6 --out p
+bad "more than --max-nodes 5000000"          hex --width 1e6 --height 1e6 --out p
+bad "--cell 1e-6 gives about"                square --cell 1e-6 --out p
+bad "--elements 100000000 gives about 1e+08 nodes" beam --elements 100000000 --out p
+bad "more than --max-nodes 100"              compound --max-nodes 100 --out p
+ULIM=150000 bad "out of memory"              hex --width 60 --height 60 --out p
+# All-or-nothing outputs: every target checked before anything is written.
+PRE='mkdir p.json' bad "--out cannot write p.json (is a directory)" hex --out p
+PRE='mkdir p.data' bad "--out cannot write p.data (is a directory)" beam --out p
+PRE='mkdir s.json' bad "--out cannot write s.json (is a directory)" shape cone --out s.stl
+PRE='mkdir sub' bad "--out must be a file prefix, not a folder (got sub/)" square --out sub/
+PRE='touch file' bad "--out cannot write file/p.data (file is not a folder)" hex --out file/p
+bad "--out must name the STL file, not its .json (got s.json)" shape cone --out s.json
 
 # --help on every subcommand: exit 0, options with units and defaults.
 for sub in hex square compound beam "shape spheroid" "shape cone" "shape truncated-cube"; do

@@ -6,11 +6,44 @@ names and renamed only on success.
 """
 
 import argparse
+import math
 import sys
 
 from .errors import PostprocessError
 
 DESCRIPTION = "WireNet post-processing (see doc/postprocess.md)."
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with the package's error rule: one line on stderr, exit code 2 (the usage is
+    one --help away, and the line says so)."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
+def _number(kind, low=None, strict=False, name=None):
+    """argparse type: a finite number of ``kind`` (float or int), > or >= ``low``."""
+    bound = None if low is None else (f"> {low:g}" if strict else f">= {low:g}")
+    wanted = (("an integer" if kind is int else "a finite number")
+              + (f" {bound}" if bound else ""))
+
+    def convert(text):
+        try:
+            value = kind(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected {wanted}, got '{text}'") from None
+        if not math.isfinite(value) or (low is not None and (value <= low if strict
+                                                            else value < low)):
+            raise argparse.ArgumentTypeError(f"expected {wanted}, got '{text}'")
+        return value
+    convert.__name__ = name or wanted
+    return convert
+
+
+FINITE = _number(float)
+POSITIVE = _number(float, 0.0, strict=True)
+POSITIVE_INT = _number(int, 0, strict=True)
 
 
 class _Formatter(argparse.ArgumentDefaultsHelpFormatter):
@@ -40,15 +73,15 @@ def _add_zone(sub):
     p.add_argument("--nodes", nargs="+", metavar="NODES.dump",
                    help="node dump(s) (dump custom id type x y z) to compute midpoints when the "
                         "bond dump has no midpoint columns c_ID[8..10]")
-    p.add_argument("--dt", type=float, required=True, help="time step [s]; time = step x dt")
+    p.add_argument("--dt", type=POSITIVE, required=True, help="time step [s]; time = step x dt")
     p.add_argument("--json", metavar="PREFIX.json",
                    help="generator metadata: zone centre, panel normal, bond_types (families); "
                         "without it: centre 0 0 0, normal 0 0 1, families 1=DT,2=SW,"
                         "3=selvedge,4=rope")
-    p.add_argument("--radius", type=float, default=1.0, help="zone radius [m]")
-    p.add_argument("--centre", "--center", type=float, nargs=3, metavar=("X", "Y", "Z"),
+    p.add_argument("--radius", type=POSITIVE, default=1.0, help="zone radius [m]")
+    p.add_argument("--centre", "--center", type=FINITE, nargs=3, metavar=("X", "Y", "Z"),
                    help="zone centre [m] (default: 'centre' of --json, else 0 0 0)")
-    p.add_argument("--normal", type=float, nargs=3, metavar=("NX", "NY", "NZ"),
+    p.add_argument("--normal", type=FINITE, nargs=3, metavar=("NX", "NY", "NZ"),
                    help="panel normal (default: 'normal' of --json, else 0 0 1)")
     p.add_argument("--families", metavar="T=NAME,...",
                    help="bond type -> family names, overrides --json (e.g. 1=DT,2=SW)")
@@ -78,7 +111,7 @@ def _add_vtu(sub):
     p.add_argument("--data", metavar="PREFIX.data",
                    help="generator data file: its bonds missing from a frame are added with "
                         "broken=1 (without it the first frame's bonds are the reference)")
-    p.add_argument("--dt", type=float, default=1.0,
+    p.add_argument("--dt", type=POSITIVE, default=1.0,
                    help="time step [s] for the .pvd times (time = step x dt)")
     p.add_argument("--ascii", action="store_true", help="write ASCII instead of binary VTU")
     p.add_argument("--out", "-o", default="wirenet.pvd", help="output .pvd (frames in OUT/)")
@@ -163,7 +196,7 @@ def _add_study(sub):
                    help="study (compound, calibration, punch, impact) or case (beam, "
                         "calibration_0.05, punch_hex, impact_square, ...)")
     p.add_argument("--quick", action="store_true", help="coarse, short versions of the cases")
-    p.add_argument("--np", type=int, default=1, metavar="N", help="MPI ranks for LIGGGHTS")
+    p.add_argument("--np", type=POSITIVE_INT, default=1, metavar="N", help="MPI ranks for LIGGGHTS")
     p.add_argument("--out", metavar="DIR", help="output folder (default: out/STUDY)")
     p.set_defaults(run="study")
 
@@ -188,7 +221,7 @@ def _add_calibrate(sub):
 
 
 def build_parser():
-    parser = argparse.ArgumentParser(prog="postprocess", description=DESCRIPTION)
+    parser = _Parser(prog="postprocess", description=DESCRIPTION)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for add in (_add_zone, _add_vtu, _add_data2vtu, _add_plot, _add_report, _add_study,
                 _add_calibrate):

@@ -16,7 +16,6 @@ RMSE of each simulated fraction (written alongside) lets one judge.
                      [--out PREFIX] [--displacement-column displacement] [--force-column force]
 """
 
-import json
 import math
 import os
 
@@ -24,7 +23,8 @@ import numpy as np
 
 from .csvio import read_csv
 from .errors import PostprocessError
-from .output import write_text
+from .output import Outputs, json_text
+from .plots import check_prefix
 
 F0 = 1e-3
 
@@ -39,43 +39,52 @@ def from_s(s):
 
 def load_case(directory):
     """(fraction, displacement, force) of a case folder: case.json 'bending' (or the last number
-    of the folder name) and platter.csv."""
+    of the folder name) and platter.csv. Errors name the folder, file or key."""
+    from .study import BENDING_KEYS, check_bending, read_case_meta
+    if not os.path.isdir(directory):
+        raise PostprocessError(f"{directory}: not a directory (--cases)")
     fraction = None
     meta_path = os.path.join(directory, "case.json")
     if os.path.isfile(meta_path):
-        with open(meta_path) as fh:
-            meta = json.load(fh)
-        for key in ("bending", "bending_fraction", "bending_ratio"):
-            if key in meta:
-                fraction = float(meta[key])
-                break
+        meta = read_case_meta(meta_path)
+        fraction = next((meta[k] for k in BENDING_KEYS if meta.get(k) is not None), None)
     if fraction is None:
         tail = os.path.basename(os.path.normpath(directory)).rsplit("_", 1)[-1]
         try:
-            fraction = float(tail)
+            float(tail)
         except ValueError:
             raise PostprocessError(f"{directory}: no bending fraction (case.json 'bending' or a "
                                    f"folder name ending in _FRACTION)") from None
-    table = read_csv(os.path.join(directory, "platter.csv"), required=("displacement", "force"))
+        fraction = check_bending(tail, directory, "bending fraction of the folder name")
+    path = os.path.join(directory, "platter.csv")
+    table = read_csv(path, required=("displacement", "force"))
+    if len(table["displacement"]) < 2:
+        raise PostprocessError(f"{path}: fewer than two data rows")
     order = np.argsort(table["displacement"], kind="stable")
-    return fraction, table["displacement"][order], table["force"][order]
+    return fraction, table["displacement"][order], table["force"][order], directory
 
 
 class Family:
     """Simulated curves sampled on common displacements, interpolated in log10(f + F0)."""
 
-    def __init__(self, cases, displacement):
+    def __init__(self, cases, displacement, source="measured curve"):
+        """``cases``: (fraction, displacement, force[, folder]); ``source``: the measured file,
+        named in errors."""
         cases = sorted(cases, key=lambda c: c[0])
         fractions = [c[0] for c in cases]
-        if len(set(fractions)) != len(fractions):
-            raise PostprocessError(f"two cases with the same bending fraction: {fractions}")
+        for a, b in zip(cases, cases[1:]):
+            if a[0] == b[0]:
+                folders = " and ".join(str(c[3]) if len(c) > 3 else "?" for c in (a, b))
+                raise PostprocessError(f"--cases: {folders} have the same bending fraction "
+                                       f"{a[0]:g}")
         if len(cases) < 2:
-            raise PostprocessError("need at least two calibration cases with different fractions")
+            raise PostprocessError("--cases: need at least two calibration cases with different "
+                                   "fractions")
         reach = min(float(c[1].max()) for c in cases)
         keep = (displacement >= 0) & (displacement <= reach)
         if keep.sum() < 3:
-            raise PostprocessError(f"fewer than 3 measured points within the simulated range "
-                                   f"0..{reach:g} m")
+            raise PostprocessError(f"{source}: fewer than 3 measured points within the "
+                                   f"simulated range 0..{reach:g} m")
         self.keep = keep
         self.d = displacement[keep]
         self.fractions = np.array(fractions)
@@ -124,8 +133,11 @@ def calibrate(measured_path, case_dirs, displacement_column="displacement",
     order = np.argsort(table[displacement_column], kind="stable")
     d = table[displacement_column][order]
     f = table[force_column][order]
-    family = Family([load_case(c) for c in case_dirs], d)
+    family = Family([load_case(c) for c in case_dirs], d, measured_path)
     measured = f[family.keep]
+    if not np.any(measured != 0):
+        raise PostprocessError(f"{measured_path}: column {force_column} is 0 at every measured "
+                               f"point within the simulated range: nothing to fit")
     fraction, rmse, ss, errors = best_fraction(family, measured)
     return dict(best_fraction=fraction, rmse=rmse,
                 rmse_relative=rmse / float(np.max(np.abs(measured))),
@@ -136,7 +148,7 @@ def calibrate(measured_path, case_dirs, displacement_column="displacement",
         family, measured, (ss, errors)
 
 
-def plot(result, family, measured, scan, prefix):
+def plot(result, family, measured, scan, prefix, outputs=None):
     from .plots import _pyplot, force_scale, save
     plt = _pyplot()
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.5))
@@ -157,15 +169,18 @@ def plot(result, family, measured, scan, prefix):
     bx.set_ylabel(f"RMSE [{unit}]")
     bx.set_title(f"RMSE minimum {result['rmse'] / scale:.4g} {unit}")
     fig.tight_layout()
-    return save(fig, prefix)
+    return save(fig, prefix, outputs)
 
 
 def run(args):
     """The ``calibrate`` subcommand."""
+    check_prefix(args.out)
     result, family, measured, scan = calibrate(args.measured, args.cases,
                                                args.displacement_column, args.force_column)
-    result["figures"] = plot(result, family, measured, scan, args.out)
-    write_text(args.out + ".json", json.dumps(result, indent=2) + "\n")
+    with Outputs() as outputs:                      # PREFIX.json, .png, .svg: all or none
+        result["figures"] = plot(result, family, measured, scan, args.out, outputs)
+        with open(outputs.file(args.out + ".json"), "w", encoding="utf-8") as handle:
+            handle.write(json_text(result))
     print(f"best bending fraction {result['best_fraction']:.6g} (RMSE {result['rmse']:.6g} N, "
           f"{100 * result['rmse_relative']:.3g} % of the peak) -> {args.out}.json, "
           f"{', '.join(result['figures'])}")

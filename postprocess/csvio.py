@@ -2,6 +2,7 @@
 
 import csv
 import io
+import math
 
 import numpy as np
 
@@ -12,14 +13,18 @@ from .output import write_text
 def read_csv(path, required=(), text_columns=("family", "case", "status")):
     """Read a CSV with a header into {column: array}; numeric unless in ``text_columns``.
 
-    Errors (missing file, empty file, missing columns, ragged rows, non-numbers) name the file
-    and the line.
+    Errors (missing file, empty file, missing columns, ragged rows, non-numbers, NaN or infinite
+    numbers) name the file and the line.
     """
     try:
         with open(path, "r", encoding="utf-8", newline="") as handle:
             rows = list(csv.reader(handle))
     except OSError as exc:
-        raise PostprocessError(f"{path}: {exc.strerror}") from None
+        raise PostprocessError(f"{path}: {exc.strerror or exc}") from None
+    except UnicodeDecodeError as exc:
+        raise PostprocessError(f"{path}: not a UTF-8 text file (byte {exc.start})") from None
+    except csv.Error as exc:
+        raise PostprocessError(f"{path}: not a CSV file: {exc}") from None
     if not rows or not any(cell.strip() for cell in rows[0]):
         raise at(path, 1, "empty file (no header)")
     header = [cell.strip() for cell in rows[0]]
@@ -49,12 +54,20 @@ def read_csv(path, required=(), text_columns=("family", "case", "status")):
                 except ValueError:
                     raise at(path, number, f"column {name}: not a number: "
                                            f"'{row[index].strip()}'") from None
+        bad = np.flatnonzero(~np.isfinite(columns[name]))
+        if bad.size:
+            number, row = body[int(bad[0])]
+            raise at(path, number, f"column {name}: not a finite number: "
+                                   f"'{row[index].strip()}'")
     return columns
 
 
 def format_number(value):
-    """Shortest faithful text for a float (integers without a decimal point)."""
+    """Shortest faithful text for a float (integers without a decimal point); NaN and infinite
+    values are written as nan / inf (read_csv refuses them)."""
     value = float(value)
+    if not math.isfinite(value):
+        return repr(value)
     if value.is_integer() and abs(value) < 1e15:
         return str(int(value))
     return repr(value)

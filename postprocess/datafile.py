@@ -4,6 +4,7 @@ Atoms lines: ``id type x y z diameter density molecule`` (trailing image flags a
 Bonds lines: ``id type atom1 atom2``. Other sections are skipped.
 """
 
+import math
 import re
 from dataclasses import dataclass
 
@@ -40,9 +41,15 @@ def _section_rows(path, lines, start, count, width, name):
         if len(fields) < width:
             raise at(path, index, f"expected {width} columns in {name}, got {len(fields)}")
         try:
-            rows.append([float(v) for v in fields[:width]])
+            values = [float(v) for v in fields[:width]]
         except ValueError:
             raise at(path, index, f"not a number in {name}: '{lines[index - 1].strip()}'") from None
+        bad = next((k for k, v in enumerate(values) if not math.isfinite(v)), None)
+        if bad is not None:
+            field_names = ATOM_FIELDS if name == "Atoms" else BOND_FIELDS
+            raise at(path, index, f"{name} column {field_names[bad]}: not a finite number: "
+                                  f"'{fields[bad]}'")
+        rows.append(values)
     return np.array(rows, dtype=float).reshape(count, width), index
 
 
@@ -52,7 +59,7 @@ def read_data(path):
         with open(path, "r", encoding="utf-8", errors="replace") as handle:
             lines = handle.read().splitlines()
     except OSError as exc:
-        raise PostprocessError(f"{path}: {exc.strerror}") from None
+        raise PostprocessError(f"{path}: {exc.strerror or exc}") from None
     if not any(line.strip() for line in lines):
         raise at(path, 1, "empty file")
     counts = {"atoms": None, "bonds": 0}

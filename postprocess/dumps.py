@@ -9,9 +9,11 @@ Frames are read one at a time (``iter_frames``); every data block is parsed with
 Any deviation raises PostprocessError naming the file and the line.
 """
 
+import contextlib
 import gzip
 import itertools
 import re
+import zlib
 from dataclasses import dataclass
 
 import numpy as np
@@ -54,7 +56,8 @@ class _Lines:
 
     def next(self):
         """Return the next line without its newline, or None at end of file."""
-        line = self.handle.readline()
+        with self._damage():
+            line = self.handle.readline()
         if not line:
             return None
         self.number += 1
@@ -62,9 +65,20 @@ class _Lines:
 
     def block(self, count):
         """Return up to ``count`` raw lines (fewer at end of file)."""
-        lines = list(itertools.islice(self.handle, count))
+        lines = []
+        with self._damage():
+            lines.extend(itertools.islice(self.handle, count))
         self.number += len(lines)
         return lines
+
+    @contextlib.contextmanager
+    def _damage(self):
+        """A damaged .gz (not gzip, truncated, bad CRC) is an error at the line reached."""
+        try:
+            yield
+        except (EOFError, gzip.BadGzipFile, zlib.error) as exc:
+            reason = str(exc) or type(exc).__name__
+            raise self.error(f"damaged compressed file: {reason}", self.number + 1) from None
 
     def error(self, message, line=None):
         return at(self.path, self.number if line is None else line, message)
@@ -92,6 +106,8 @@ def _read_box(lines):
             rows.append([float(v) for v in text.split()])
         except ValueError:
             raise lines.error(f"expected box bounds, got '{text.strip()}'") from None
+        if not all(np.isfinite(rows[-1])):
+            raise lines.error(f"box bounds must be finite numbers, got '{text.strip()}'")
         if len(rows[-1]) not in (2, 3):
             raise lines.error(f"expected 2 or 3 box bound values, got {len(rows[-1])}")
     return np.array([r[:2] for r in rows])
@@ -117,6 +133,17 @@ def _locate_bad_line(lines, block, first, ncol, step, expected):
                       f"got {len(block)}", lines.number + 1)
 
 
+def _check_finite(lines, block, first, names, data, step):
+    """Raise for the first NaN / infinite value of a parsed block: file:line, column, step."""
+    bad = ~np.isfinite(data)
+    if not bad.any():
+        return
+    row, col = np.argwhere(bad)[0]
+    field = block[row].split()[col]
+    raise lines.error(f"column {names[col]}: not a finite number: '{field}' (step {step})",
+                      first + int(row))
+
+
 def _read_data(lines, names, count, step):
     first = lines.number + 1
     block = lines.block(count)
@@ -127,6 +154,7 @@ def _read_data(lines, names, count, step):
         try:
             data = np.loadtxt(block, ndmin=2, comments=None)
             if data.shape == (count, ncol):
+                _check_finite(lines, block, first, names, data, step)
                 return data
         except ValueError:
             pass

@@ -8,7 +8,7 @@ import numpy as np
 from . import study
 from .csvio import read_csv
 from .errors import PostprocessError
-from .output import atomic_path
+from .output import Outputs
 
 FAMILY_COLOURS = {"DT": "tab:blue", "SW": "tab:orange", "selvedge": "tab:green",
                   "rope": "tab:red", "beam": "tab:purple"}
@@ -40,19 +40,46 @@ def force_scale(values):
     return 1.0, "N"
 
 
-def save(fig, prefix):
-    """Save PREFIX.png and PREFIX.svg atomically; return both paths."""
+def check_prefix(prefix, option="--out"):
+    """PostprocessError unless ``prefix`` names files (PREFIX.png, ...), not a folder."""
+    if not os.path.basename(str(prefix)):
+        raise PostprocessError(f"argument {option}: expected a file prefix such as "
+                               f"DIR/figure, got '{prefix}'")
+    for ext in ("png", "svg", "json"):
+        if os.path.isdir(f"{prefix}.{ext}"):
+            raise PostprocessError(f"{prefix}.{ext}: is a directory (an output file was "
+                                   f"expected)")
+
+
+def save(fig, prefix, outputs=None):
+    """Save PREFIX.png and PREFIX.svg, both or neither; return both paths.
+
+    With ``outputs`` (an output.Outputs) the files are committed with the other outputs of the
+    caller; without, at once."""
+    own = outputs is None
+    outputs = Outputs() if own else outputs
     paths = []
-    for ext in ("png", "svg"):
-        path = f"{prefix}.{ext}"
-        with atomic_path(path, "." + ext) as tmp:
-            fig.savefig(tmp, format=ext, dpi=150)
-        paths.append(path)
-    _pyplot().close(fig)
+    try:
+        for ext in ("png", "svg"):
+            path = f"{prefix}.{ext}"
+            tmp = outputs.file(path, "." + ext)
+            try:
+                fig.savefig(tmp, format=ext, dpi=150)
+            except OSError as exc:
+                raise PostprocessError(f"{path}: cannot write: {exc.strerror or exc}") from None
+            paths.append(path)
+        if own:
+            outputs.commit()
+    except BaseException:
+        if own:
+            outputs.abort()
+        raise
+    finally:
+        _pyplot().close(fig)
     return paths
 
 
-def figure_beam(beam, prefix, line=None):
+def figure_beam(beam, prefix, line=None, outputs=None):
     """Figure 1: deflection (line, or tip deflection vs load) and NRMSE vs elements."""
     plt = _pyplot()
     fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4), layout="constrained")
@@ -87,7 +114,7 @@ def figure_beam(beam, prefix, line=None):
     right.set_ylabel("NRMSE [-]")
     right.set_title("(b) normalised RMS error")
     fig.suptitle("Figure 1: beam tip-load test")
-    return save(fig, prefix)
+    return save(fig, prefix, outputs)
 
 
 def relative_to_first(curves, floor=0.002):
@@ -113,7 +140,7 @@ def relative_to_first(curves, floor=0.002):
     return result
 
 
-def figure_calibration(curves, prefix):
+def figure_calibration(curves, prefix, outputs=None):
     """Figure 2: (a) platter force vs displacement, one curve per (label, displacement, force);
     (b) with several curves, each one's difference to the first in % (they nearly overlap)."""
     plt = _pyplot()
@@ -140,7 +167,7 @@ def figure_calibration(curves, prefix):
         fig.suptitle("Figure 2: square-mesh cone punch, calibration")
     else:
         axis.set_title("Figure 2: square-mesh cone punch, calibration")
-    return save(fig, prefix)
+    return save(fig, prefix, outputs)
 
 
 def _families_to_plot(series, families):
@@ -154,7 +181,8 @@ def _families_to_plot(series, families):
     return found
 
 
-def figure_zone(series, prefix, x="time", families=None, title=None, ruptures=None):
+def figure_zone(series, prefix, x="time", families=None, title=None, ruptures=None,
+                outputs=None):
     """Figures 3, 5, 6: (a) maximum and (b) total tension per family of several cases.
 
     ``series``: list of (label, Case.zone() dict). Colour = family, line style = case.
@@ -185,7 +213,7 @@ def figure_zone(series, prefix, x="time", families=None, title=None, ruptures=No
             panel.legend(fontsize="small")
     if title:
         fig.suptitle(title)
-    return save(fig, prefix)
+    return save(fig, prefix, outputs)
 
 
 def first_rupture_at(record, x):
@@ -206,21 +234,27 @@ def _case_label(path, labels, index):
 
 
 def study_figures(directory, cases=None):
-    """Every figure the case folders allow, in DIR/figures; returns {figure: [paths]}."""
+    """Every figure the case folders allow, in DIR/figures, all or none; returns
+    {figure: [paths]}."""
     cases = study.discover(directory) if cases is None else cases
+    with Outputs() as outputs:
+        return _study_figures(directory, cases, outputs)
+
+
+def _study_figures(directory, cases, outputs):
     out = os.path.join(directory, "figures")
     written = {}
     beams = [c for c in cases.values() if c.kind == "beam" and c.usable and "beam" in c.tables]
     if beams:
         line = _optional_line(beams[0].line_path())
         written["fig1_beam"] = figure_beam(beams[0].tables["beam"],
-                                           os.path.join(out, "fig1_beam"), line)
+                                           os.path.join(out, "fig1_beam"), line, outputs)
     calibration = study.calibration_cases(cases)
     if calibration:
         curves = [(_format_bending(c), c.tables["platter"]["displacement"],
                    c.tables["platter"]["force"]) for c in calibration]
-        written["fig2_calibration"] = figure_calibration(curves,
-                                                         os.path.join(out, "fig2_calibration"))
+        written["fig2_calibration"] = figure_calibration(
+            curves, os.path.join(out, "fig2_calibration"), outputs)
     for name, (wanted, families, x, title) in STUDY_FIGURES.items():
         series = [(c, cases[c].zone()) for c in wanted
                   if c in cases and cases[c].usable and "zone" in cases[c].tables]
@@ -228,7 +262,7 @@ def study_figures(directory, cases=None):
             ruptures = {c: first_rupture_at(cases[c].meta.get("first_rupture"), x)
                         for c, _ in series}
             written[name] = figure_zone(series, os.path.join(out, name), x, families, title,
-                                        ruptures)
+                                        ruptures, outputs)
     return written
 
 
@@ -256,6 +290,7 @@ def run(args):
         if not written:
             print(f"no figures: no usable case folders in {args.dir}")
         return
+    check_prefix(args.out)
     labels = getattr(args, "labels", None)
     if labels and len(labels) != len(args.csv):
         raise PostprocessError(f"--labels: {len(labels)} labels for {len(args.csv)} files")

@@ -1,5 +1,6 @@
 """Case folders of a study directory: DIR/CASE/{zone_forces,platter,block,beam}.csv + case.json."""
 
+import math
 import os
 import re
 from dataclasses import dataclass, field
@@ -8,7 +9,7 @@ import numpy as np
 
 from .csvio import read_csv
 from .errors import PostprocessError
-from .meta import read_json
+from .meta import json_type, read_json_object
 
 TABLES = {
     "zone": ("zone_forces.csv", ("time", "displacement", "family", "total_tension",
@@ -60,13 +61,10 @@ class Case:
     @property
     def bending(self):
         """Bending fraction of a calibration case: case.json bending / bending_fraction /
-        bending_ratio, else the last number in the folder name."""
-        for key in ("bending", "bending_fraction", "bending_ratio"):
-            if key in self.meta:
-                try:
-                    return float(self.meta[key])
-                except (TypeError, ValueError):
-                    return None
+        bending_ratio (checked by read_case_meta), else the last number in the folder name."""
+        for key in BENDING_KEYS:
+            if self.meta.get(key) is not None:
+                return float(self.meta[key])
         numbers = re.findall(r"\d+(?:\.\d+)?(?:e-?\d+)?", self.name)
         return float(numbers[-1]) if numbers else None
 
@@ -94,16 +92,94 @@ class Case:
         return None
 
 
+# case.json keys the readers use, with the JSON types they accept (null = not recorded).
+BENDING_KEYS = ("bending", "bending_fraction", "bending_ratio")
+TEXT_KEYS = ("status", "kind")
+NUMBER_KEYS = ("wall_time", "edge_force_peak", "broken_bonds", "max_displacement",
+               "rebound_time", "peak_block_force", "np")
+OBJECT_KEYS = ("energy", "momentum", "quasi_static")
+
+
+def _is_number(value):
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _bad(path, key, value, wanted):
+    shown = repr(value) if isinstance(value, str) else value
+    return PostprocessError(f"{path}: '{key}' must be {wanted}, got {json_type(value)} "
+                            f"{shown!s}".rstrip())
+
+
+def _missing_is_null(value):
+    """NaN / infinite numbers anywhere -> None: the study writes NaN for a value it could not
+    compute (e.g. a quasi-static measure of a case without force), i.e. 'not available'."""
+    if isinstance(value, dict):
+        return {k: _missing_is_null(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_missing_is_null(v) for v in value]
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
+def check_bending(value, path, key):
+    """A bending fraction: a finite number >= 0 (a numeric string is accepted)."""
+    try:
+        if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+            raise ValueError
+        fraction = float(value)
+    except ValueError:
+        raise _bad(path, key, value, "a number >= 0") from None
+    if not (math.isfinite(fraction) and fraction >= 0):
+        raise _bad(path, key, value, "a finite number >= 0")
+    return fraction
+
+
+def read_case_meta(path):
+    """case.json of a case folder as a dict, checked key by key.
+
+    Errors (PostprocessError naming the file and the key): not JSON, truncated, not an object,
+    a bending fraction that is not a finite number >= 0, status / kind that are not text,
+    a recorded number (wall_time, edge_force_peak, ...) that is not a number, energy /
+    momentum / quasi_static that are not objects, a first_rupture that is neither a number nor
+    an object with numbers. NaN / Infinity elsewhere read as null (not available).
+    """
+    meta = read_json_object(path)
+    for key in BENDING_KEYS:
+        if meta.get(key) is not None:
+            meta[key] = check_bending(meta[key], path, key)
+    for key in TEXT_KEYS:
+        if meta.get(key) is not None and not isinstance(meta[key], str):
+            raise _bad(path, key, meta[key], "text")
+    for key in NUMBER_KEYS:
+        if meta.get(key) is not None and not _is_number(meta[key]):
+            raise _bad(path, key, meta[key], "a number or null")
+    for key in OBJECT_KEYS:
+        if meta.get(key) is not None and not isinstance(meta[key], dict):
+            raise _bad(path, key, meta[key], "an object {...} or null")
+    snaps = (meta.get("quasi_static") or {}).get("snap_events")
+    if snaps is not None and not isinstance(snaps, list):
+        raise _bad(path, "quasi_static.snap_events", snaps, "a list or null")
+    rupture = meta.get("first_rupture")
+    if rupture is not None and not _is_number(rupture):
+        if not isinstance(rupture, dict):
+            raise _bad(path, "first_rupture", rupture, "a number, an object or null")
+        for key in ("displacement", "force"):
+            if rupture.get(key) is not None and not _is_number(rupture[key]):
+                raise _bad(path, f"first_rupture.{key}", rupture[key], "a number or null")
+        if rupture.get("bond") is not None and not isinstance(rupture["bond"], dict):
+            raise _bad(path, "first_rupture.bond", rupture["bond"], "an object {...} or null")
+    return _missing_is_null(meta)
+
+
 def load_case(path):
-    """Read every known file of a case folder; unreadable files are recorded, not fatal."""
+    """Read every known file of a case folder. An unreadable CSV is recorded in
+    ``case.errors`` (the case is then not used); a corrupt case.json is an error
+    (PostprocessError naming the file and the key), since it decides what the case is."""
     case = Case(os.path.basename(os.path.normpath(path)), path)
     meta_path = os.path.join(path, "case.json")
     if os.path.isfile(meta_path):
-        try:
-            meta = read_json(meta_path)
-            case.meta = meta if isinstance(meta, dict) else {}
-        except PostprocessError as exc:
-            case.errors.append(str(exc))
+        case.meta = read_case_meta(meta_path)
     for key, (name, required) in TABLES.items():
         table_path = os.path.join(path, name)
         if os.path.isfile(table_path):

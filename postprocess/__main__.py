@@ -259,12 +259,19 @@ def main(argv=None):
     try:
         _dispatch(args)
     except PostprocessError as exc:
-        print(f"postprocess {args.command}: error: {exc}", file=sys.stderr)
+        print(f"postprocess {args.command}: error: {_one_line(str(exc))}", file=sys.stderr)
         return 2
     except OSError as exc:
-        print(f"postprocess {args.command}: error: {_os_error_text(exc)}", file=sys.stderr)
+        print(f"postprocess {args.command}: error: {_one_line(_os_error_text(exc))}",
+              file=sys.stderr)
         return 2
     return 0
+
+
+def _one_line(text):
+    """The message with control characters (from a damaged input quoted in it) escaped, so that
+    the error stays one printable line."""
+    return "".join(ch if ch.isprintable() else ascii(ch)[1:-1] for ch in text)
 
 
 def _os_error_text(exc):

@@ -310,3 +310,11 @@ def test_failed_commit_restores_every_previous_output(tmp_path, monkeypatch):
     assert (tmp_path / "a.txt").read_text() == "old a\n"
     assert (tmp_path / "b.txt").read_text() == "old b\n"
     assert sorted(os.listdir(tmp_path)) == ["a.txt", "b.txt"]
+
+
+def test_control_characters_of_a_damaged_dump_stay_on_one_line(tmp_path, capsys):
+    code, err, out = run_zone(tmp_path, capsys, "\x0bITEM\x1b[2J\x85: TIMESTEP\n1\n")
+    assert code == 2 and err.count("\n") == 1, err
+    assert err[:-1].isprintable()
+    assert err.endswith("bonds.dump:1: expected an ITEM: line, got 'ITEM\\x1b[2J\\x85: TIMESTEP'\n")
+    assert not out.exists()

@@ -154,3 +154,60 @@ def test_duplicate_steps_keep_the_last_frame(run_dir):
     _, rows = read_rows(out)
     assert len(rows) == 12
     assert [float(x) for x in by_key(rows)[(300, "DT")][3:]] == [4.0, 4.0, 1.0]
+
+
+def test_normal_option_tilts_the_zone(run_dir):
+    """--normal 2 0 0 (normalised to x): the zone is the circle of radius 1 about (y, z) =
+    (1, 0.5) in the y-z plane; x no longer matters. Hand-computed from NODES."""
+    out = run_dir / "z.csv"
+    assert main(["zone", str(run_dir / "bonds.dump"), "--dt", str(DT), "--json",
+                 str(run_dir / "panel.json"), "--normal", "2", "0", "0", "-o", str(out)]) == 0
+    table = by_key(read_rows(out)[1])
+    # DT: 1-2 (dy 0, dz -0.5) and 5-6 (dy 0, dz -0.5) inside, 3-4 (dy 0.9, dz -1.3) outside
+    assert [float(x) for x in table[(100, "DT")][3:]] == [1010.5, 1000.0, 2.0]
+    # SW: 7-8, 9-10, 11-12 (compressive), 13-14 inside; 15-16 (dy -1, dz -0.5) outside
+    assert [float(x) for x in table[(100, "SW")][3:]] == [104.75, 99.0, 4.0]
+    assert [float(x) for x in table[(100, "selvedge")][3:]] == [0.0, 0.0, 0.0]
+
+
+def test_time_column_option(run_dir):
+    """--time-column picks the abscissa of --displacement; a decoy 'time' column would give
+    other values."""
+    (run_dir / "motion.csv").write_text("time,t,disp\n0,0,0\n1,100,0.2\n")
+    out = run_dir / "z.csv"
+    assert main(["zone", str(run_dir / "bonds.dump"), "--dt", str(DT), "--json",
+                 str(run_dir / "panel.json"), "--displacement", str(run_dir / "motion.csv"),
+                 "--time-column", "t", "--displacement-column", "disp", "-o", str(out)]) == 0
+    disp = {round(float(r[0]) / DT): float(r[1]) for r in read_rows(out)[1]}
+    assert disp == {100: pytest.approx(0.05), 200: pytest.approx(0.1), 300: pytest.approx(0.15)}
+
+
+def test_gzip_dumps_give_the_same_answer(run_dir):
+    """.gz bond and node dumps are read transparently."""
+    import gzip
+    for name in ("bonds.dump", "bonds6.dump", "nodes.dump"):
+        (run_dir / (name + ".gz")).write_bytes(gzip.compress((run_dir / name).read_bytes()))
+    common = ["--dt", str(DT), "--json", str(run_dir / "panel.json")]
+    plain, packed, packed6 = run_dir / "a.csv", run_dir / "b.csv", run_dir / "c.csv"
+    assert main(["zone", str(run_dir / "bonds.dump"), *common, "-o", str(plain)]) == 0
+    assert main(["zone", str(run_dir / "bonds.dump.gz"), *common, "-o", str(packed)]) == 0
+    assert main(["zone", str(run_dir / "bonds6.dump.gz"), "--nodes",
+                 str(run_dir / "nodes.dump.gz"), *common, "-o", str(packed6)]) == 0
+    assert plain.read_text() == packed.read_text() == packed6.read_text()
+    assert len(read_rows(packed)[1]) == 12
+
+
+def test_nan_tension_is_an_error_not_zero(run_dir, capsys):
+    """A NaN tension used to count as 0 (NaN > 0 is False)."""
+    dump = run_dir / "bonds.dump"
+    lines = dump.read_text().splitlines(keepends=True)
+    fields = lines[9].split()                      # first data line of step 100: bond 1-2
+    fields[5] = "nan"
+    lines[9] = " ".join(fields) + "\n"
+    dump.write_text("".join(lines))
+    out = run_dir / "z.csv"
+    assert main(["zone", str(dump), "--dt", str(DT), "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err == (f"postprocess zone: error: {dump}:10: column c_bonds[6]: not a finite number: "
+                   f"'nan' (step 100)\n")
+    assert not out.exists()

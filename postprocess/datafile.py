@@ -14,6 +14,8 @@ from .errors import PostprocessError, at
 
 ATOM_FIELDS = ("id", "type", "x", "y", "z", "diameter", "density", "molecule")
 BOND_FIELDS = ("id", "type", "atom1", "atom2")
+INTEGER_FIELDS = ("id", "type", "atom1", "atom2")      # molecule may be 0
+MAX_ID = 2 ** 31 - 1
 _COUNT = re.compile(r"^\s*(\d+)\s+(atoms|bonds)\s*$")
 
 
@@ -49,6 +51,12 @@ def _section_rows(path, lines, start, count, width, name):
             field_names = ATOM_FIELDS if name == "Atoms" else BOND_FIELDS
             raise at(path, index, f"{name} column {field_names[bad]}: not a finite number: "
                                   f"'{fields[bad]}'")
+        field_names = ATOM_FIELDS if name == "Atoms" else BOND_FIELDS
+        for k, value in enumerate(values):
+            if field_names[k] in INTEGER_FIELDS and not (value == int(value) and
+                                                         1 <= value <= MAX_ID):
+                raise at(path, index, f"{name} column {field_names[k]}: expected a whole number "
+                                      f"from 1 to {MAX_ID}, got '{fields[k]}'")
         rows.append(values)
     return np.array(rows, dtype=float).reshape(count, width), index
 

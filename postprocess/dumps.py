@@ -20,6 +20,9 @@ import numpy as np
 
 from .errors import at
 
+# Largest atom id or type accepted (LIGGGHTS' default tagint is a 32-bit int).
+MAX_ID = 2 ** 31 - 1
+
 # Columns of compute wirenet/local, 1-based as c_ID[k] (doc/file_formats.md).
 BOND_COLUMNS = ("atom1", "atom2", "type", "length0", "strain", "tension", "length",
                 "xm", "ym", "zm", "shear", "moment")
@@ -38,6 +41,24 @@ class Frame:
 
     def column(self, name):
         return self.data[:, self.names.index(name)]
+
+    def integers(self, index, low=1, high=MAX_ID):
+        """Column ``index`` as int64; PostprocessError naming the line and the column when a
+        value is not a whole number in [low, high] (ids and types; 1.5 or 1e30 would otherwise
+        be truncated or overflow silently)."""
+        values = self.data[:, index]
+        bad = (values != np.round(values)) | (values < low) | (values > high)
+        if bad.any():
+            row = int(np.flatnonzero(bad)[0])
+            raise at(self.path, self.header_line + 1 + row,
+                     f"column {self.names[index]}: expected a whole number from {low} to {high}, "
+                     f"got {_number_text(values[row])} (step {self.step})")
+        return values.astype(np.int64)
+
+
+def _number_text(value):
+    value = float(value)
+    return str(int(value)) if value.is_integer() and abs(value) < 1e15 else repr(value)
 
 
 def _open(path):
@@ -291,9 +312,10 @@ def nodes_from_frame(frame):
         if frame.box is None:
             raise at(frame.path, frame.header_line, "scaled coordinates without box bounds")
         xyz = frame.box[:, 0] + xyz * (frame.box[:, 1] - frame.box[:, 0])
-    ids = frame.column("id").astype(np.int64)
+    ids = frame.integers(names.index("id"))
     order = np.argsort(ids, kind="stable")
-    types = frame.column("type").astype(np.int64) if "type" in names else np.zeros(len(ids), int)
+    types = (frame.integers(names.index("type"), low=0) if "type" in names
+             else np.zeros(len(ids), np.int64))
     skip = {"id", "type", *cols}
     extra = {n: frame.column(n)[order] for n in names if n not in skip}
     return Nodes(frame.step, ids[order], types[order], xyz[order], extra)

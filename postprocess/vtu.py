@@ -65,9 +65,9 @@ class Reference:
 
     @classmethod
     def from_frame(cls, frame, mapping):
-        first = frame.data[:, mapping["atom1"]].astype(np.int64)
-        second = frame.data[:, mapping["atom2"]].astype(np.int64)
-        types = frame.data[:, mapping["type"]].astype(np.int64)
+        first = frame.integers(mapping["atom1"])
+        second = frame.integers(mapping["atom2"])
+        types = frame.integers(mapping["type"])
         return cls(bond_keys(first, second), first, second, types)
 
     def missing(self, keys):
@@ -78,9 +78,9 @@ class Reference:
 def frame_arrays(frame, mapping, nodes, reference):
     """Points, cells, point data and cell data of one frame."""
     data = frame.data
-    first = data[:, mapping["atom1"]].astype(np.int64)
-    second = data[:, mapping["atom2"]].astype(np.int64)
-    types = data[:, mapping["type"]].astype(np.int64)
+    first = frame.integers(mapping["atom1"])
+    second = frame.integers(mapping["atom2"])
+    types = frame.integers(mapping["type"])
     cell_data = {"tension": data[:, mapping["tension"]],
                  "strain": data[:, mapping["strain"]] if "strain" in mapping
                  else np.full(len(data), np.nan)}

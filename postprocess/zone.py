@@ -34,8 +34,8 @@ def midpoints(frame, mapping, nodes):
     if len(frame.data) == 0:
         return np.zeros((0, 3))
     at_step = nodes.at_step(frame.step, frame.path, frame.header_line)
-    first = at_step.index_of(frame.data[:, mapping["atom1"]], frame.path, frame.header_line)
-    second = at_step.index_of(frame.data[:, mapping["atom2"]], frame.path, frame.header_line)
+    first = at_step.index_of(frame.integers(mapping["atom1"]), frame.path, frame.header_line)
+    second = at_step.index_of(frame.integers(mapping["atom2"]), frame.path, frame.header_line)
     return 0.5 * (at_step.xyz[first] + at_step.xyz[second])
 
 
@@ -54,19 +54,16 @@ class FamilyIndex:
         self.by_type[btype] = self.names.index(name)
 
     def indices(self, types):
-        """Family index of each bond type (vectorised through a lookup table)."""
-        types = types.astype(np.int64)
-        for btype in np.unique(types):
-            if int(btype) not in self.by_type:
-                self._add(int(btype), f"type{int(btype)}")
+        """Family index of each bond type (vectorised through the distinct types)."""
+        types = np.asarray(types, dtype=np.int64)
         if len(types) == 0:
             return np.zeros(0, dtype=np.int64)
-        low = min(int(types.min()), 0)
-        table = np.full(max(max(self.by_type), int(types.max())) + 1 - low, -1, dtype=np.int64)
-        for btype, index in self.by_type.items():
-            if btype >= low:
-                table[btype - low] = index
-        return table[types - low]
+        distinct, inverse = np.unique(types, return_inverse=True)
+        for btype in distinct:
+            if int(btype) not in self.by_type:
+                self._add(int(btype), f"type{int(btype)}")
+        lookup = np.array([self.by_type[int(t)] for t in distinct], dtype=np.int64)
+        return lookup[inverse.reshape(-1)]
 
 
 def frame_forces(frame, panel, radius, family_index, nodes=None):
@@ -75,7 +72,7 @@ def frame_forces(frame, panel, radius, family_index, nodes=None):
     dumps.require_columns(frame, mapping, ("type", "tension"), "needed by zone")
     mids = midpoints(frame, mapping, nodes)
     inside = in_zone(mids, panel.centre, panel.normal, radius)
-    family = family_index.indices(frame.data[:, mapping["type"]])
+    family = family_index.indices(frame.integers(mapping["type"]))
     tension = frame.data[:, mapping["tension"]]
     tensile = np.where(inside & (tension > 0), tension, 0.0)
     size = len(family_index.names)

@@ -109,6 +109,18 @@ def inf_midpoint(work):
     dump.write_text("".join(lines))
 
 
+def huge_type(work):
+    edit(work / "bonds.dump", "\n2 3 2 0.1", "\n2 3 1e30 0.1")        # step 100, bond 2-3
+
+
+def fractional_atom(work):
+    edit(work / "bonds6.dump", "\n2 3 2 0.1", "\n2.5 3 2 0.1")
+
+
+def fractional_data_id(work):
+    edit(work / "panel.data", "\n2 2 2 3\n", "\n2 2 2.5 3\n")
+
+
 def nan_node(work):
     edit(work / "nodes.dump", "\n2 1 1 0 0\n", "\n2 1 nan 0 0\n")
 
@@ -224,6 +236,13 @@ CASES = [
      "(step 100)"),
     ("zone-inf-midpoint", inf_midpoint, ["zone", "bonds.dump", "--dt", "1", "-o", "out.csv"],
      "bonds.dump:21: column c_bonds[8]: not a finite number: 'inf' (step 200)"),
+    ("zone-huge-type", huge_type, ["zone", "bonds.dump", "--dt", "1", "-o", "out.csv"],
+     "bonds.dump:11: column c_bonds[3]: expected a whole number from 1 to 2147483647, got "
+     "1e+30 (step 100)"),
+    ("zone-fractional-atom", fractional_atom,
+     ["zone", "bonds6.dump", "--nodes", "nodes.dump", "--dt", "1", "-o", "out.csv"],
+     "bonds6.dump:11: column c_bonds[1]: expected a whole number from 1 to 2147483647, got 2.5 "
+     "(step 100)"),
     ("zone-nan-node", nan_node,
      ["zone", "bonds6.dump", "--nodes", "nodes.dump", "--dt", "1", "-o", "out.csv"],
      "nodes.dump:11: column x: not a finite number: 'nan' (step 100)"),
@@ -307,6 +326,9 @@ CASES = [
     ("data2vtu-nan-atom", nan_atom_in_data, ["data2vtu", "panel.data", "-o", "p.vtu"],
      "panel.data:[[panel.data|2 1 1 0 0 nan]]: Atoms column diameter: not a finite number: "
      "'nan'"),
+    ("data2vtu-fractional-atom", fractional_data_id, ["data2vtu", "panel.data", "-o", "p.vtu"],
+     "panel.data:[[panel.data|2 2 2.5 3]]: Bonds column atom1: expected a whole number from 1 "
+     "to 2147483647, got '2.5'"),
     ("data2vtu-unknown-atom", bond_to_unknown_atom, ["data2vtu", "panel.data", "-o", "p.vtu"],
      "panel.data: bond refers to unknown atom 9"),
     ("data2vtu-out-is-a-directory", output_is_a_directory,

@@ -98,6 +98,13 @@ TEXT_KEYS = ("status", "kind")
 NUMBER_KEYS = ("wall_time", "edge_force_peak", "broken_bonds", "max_displacement",
                "rebound_time", "peak_block_force", "np")
 OBJECT_KEYS = ("energy", "momentum", "quasi_static")
+NESTED_NUMBER_KEYS = {               # numbers (or null) inside those objects that are reported
+    "energy": ("closure_error",),
+    "momentum": ("error",),
+    "quasi_static": ("slow_factor", "curve_difference", "compared_up_to",
+                     "kinetic_energy_fraction", "equilibrium_error",
+                     "equilibrium_error_of_current", "equilibrium_holds_from"),
+}
 
 
 def _is_number(value):
@@ -141,8 +148,9 @@ def read_case_meta(path):
     Errors (PostprocessError naming the file and the key): not JSON, truncated, not an object,
     a bending fraction that is not a finite number >= 0, status / kind that are not text,
     a recorded number (wall_time, edge_force_peak, ...) that is not a number, energy /
-    momentum / quasi_static that are not objects, a first_rupture that is neither a number nor
-    an object with numbers. NaN / Infinity elsewhere read as null (not available).
+    momentum / quasi_static that are not objects (or whose reported numbers are not numbers), a
+    first_rupture that is neither a number nor an object with numbers. NaN / Infinity elsewhere
+    read as null (not available).
     """
     meta = read_json_object(path)
     for key in BENDING_KEYS:
@@ -157,6 +165,14 @@ def read_case_meta(path):
     for key in OBJECT_KEYS:
         if meta.get(key) is not None and not isinstance(meta[key], dict):
             raise _bad(path, key, meta[key], "an object {...} or null")
+    for key, names in NESTED_NUMBER_KEYS.items():
+        for name in names:
+            value = (meta.get(key) or {}).get(name)
+            if value is not None and not _is_number(value):
+                raise _bad(path, f"{key}.{name}", value, "a number or null")
+    passed = (meta.get("quasi_static") or {}).get("passed")
+    if passed is not None and not isinstance(passed, bool):
+        raise _bad(path, "quasi_static.passed", passed, "true, false or null")
     snaps = (meta.get("quasi_static") or {}).get("snap_events")
     if snaps is not None and not isinstance(snaps, list):
         raise _bad(path, "quasi_static.snap_events", snaps, "a list or null")

@@ -200,6 +200,11 @@ def case_json_rupture(work):
         '{"first_rupture": {"displacement": "x"}}')
 
 
+def case_json_quasi_static(work):
+    (work / "study" / "punch_hex" / "case.json").write_text(
+        '{"quasi_static": {"curve_difference": "1 %", "passed": true}}')
+
+
 def case_json_wall_time(work):
     (work / "study" / "punch_hex" / "case.json").write_text('{"wall_time": "3 s"}')
 
@@ -362,6 +367,9 @@ CASES = [
      "punch_hex/case.json: 'wall_time' must be a number or null, got a string '3 s'"),
     ("report-bending-text", bending_text, ["report", STUDY],
      "calib_1/case.json: 'bending' must be a number >= 0, got a string 'abc'"),
+    ("report-case-json-quasi-static", case_json_quasi_static, ["report", STUDY, "--no-figures"],
+     "punch_hex/case.json: 'quasi_static.curve_difference' must be a number or null, got a "
+     "string '1 %'"),
     ("report-not-a-directory", nothing, ["report", "platter.csv"],
      "platter.csv: not a directory"),
     ("study-np-zero", nothing, ["study", "beam", "--np", "0", "--out", "never"],

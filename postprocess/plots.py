@@ -233,12 +233,15 @@ def _case_label(path, labels, index):
     return os.path.basename(os.path.dirname(os.path.abspath(path))) or path
 
 
-def study_figures(directory, cases=None):
+def study_figures(directory, cases=None, outputs=None):
     """Every figure the case folders allow, in DIR/figures, all or none; returns
-    {figure: [paths]}."""
+    {figure: [paths]}. With ``outputs`` (output.Outputs) the figures are committed with the
+    caller's other outputs (e.g. report.md and summary.json)."""
     cases = study.discover(directory) if cases is None else cases
-    with Outputs() as outputs:
+    if outputs is not None:
         return _study_figures(directory, cases, outputs)
+    with Outputs() as own:
+        return _study_figures(directory, cases, own)
 
 
 def _study_figures(directory, cases, outputs):

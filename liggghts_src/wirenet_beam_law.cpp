@@ -40,12 +40,14 @@ inline void store3(double *h, const Vector3d &v) { h[0] = v[0]; h[1] = v[1]; h[2
 
 BeamLaw::BeamLaw(const BeamLawParams &p) : p_(p)
 {
-  require(p.diameter > 0.0, "beam diameter must be > 0", p.diameter);
-  require(p.young > 0.0, "beam E must be > 0", p.young);
+  // isfinite refuses inf and nan (which would pass a negated comparison)
+  require(std::isfinite(p.diameter) && p.diameter > 0.0, "beam diameter must be a finite number > 0", p.diameter);
+  require(std::isfinite(p.young) && p.young > 0.0, "beam E must be a finite number > 0", p.young);
   require(p.nu > -1.0 && p.nu < 0.5, "beam nu must be in (-1,0.5)", p.nu);
-  require(p.bending >= 0.0, "beam bending fraction must be >= 0", p.bending);
+  require(std::isfinite(p.bending) && p.bending >= 0.0, "beam bending fraction must be a finite number >= 0", p.bending);
+  // twist < 0 is the "not given" sentinel (the parser refuses an explicit negative value)
   twist_fraction_ = p.twist < 0.0 ? p.bending : p.twist;
-  require(twist_fraction_ >= 0.0, "beam twist fraction must be >= 0", p.twist);
+  require(std::isfinite(twist_fraction_), "beam twist fraction must be a finite number >= 0", p.twist);
   const double r = 0.5 * p.diameter;
   area_ = M_PI * r * r;
   inertia_ = M_PI * r * r * r * r / 4.0;

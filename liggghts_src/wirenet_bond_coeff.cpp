@@ -3,20 +3,33 @@
 #include "wirenet_bond_coeff.h"
 
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
+#include <sstream>
 #include <stdexcept>
 
 namespace WireNet {
 
 namespace {
 
-bool to_number(const std::string &s, double &v)
+// What a word is: a finite number, a number strtod reads but that is not finite ("inf",
+// "infinity", "nan" in any case and sign, or an overflow such as "1e999"), or text.
+enum class Word { NUMBER, NONFINITE, TEXT };
+
+Word classify(const std::string &s, double &v)
 {
-  if (s.empty()) return false;
+  if (s.empty()) return Word::TEXT;
   char *end = nullptr;
-  errno = 0;
   v = std::strtod(s.c_str(), &end);
-  return errno == 0 && end && *end == '\0';
+  if (!end || *end != '\0') return Word::TEXT;
+  return std::isfinite(v) ? Word::NUMBER : Word::NONFINITE;
+}
+
+std::string fmt(double v)
+{
+  std::ostringstream s;
+  s << v;
+  return s.str();
 }
 
 // Walks the argument list; every accessor names what it expected when it fails.
@@ -30,24 +43,30 @@ class ArgCursor {
     if (done()) throw std::invalid_argument("missing " + what);
     return a_[k_++];
   }
-  double number(const std::string &what)
+  // A number word. A non-finite one is refused here unless the caller checks the range itself
+  // (finite = false): the law's check then names the range ("must be a finite number > 0 (got
+  // inf)"), WireLaw and BeamLaw refuse every non-finite parameter.
+  double number(const std::string &what, bool finite = true)
   {
     const std::string s = word(what);
     double v;
-    if (!to_number(s, v)) throw std::invalid_argument(what + " must be a number (got '" + s + "')");
+    const Word w = classify(s, v);
+    if (w == Word::TEXT) throw std::invalid_argument(what + " must be a number (got '" + s + "')");
+    if (w == Word::NONFINITE && finite) throw std::invalid_argument(what + " must be a finite number (got " + s + ")");
     return v;
   }
   // "name value" pair where the name is fixed
-  double keyed(const std::string &key, const std::string &context)
+  double keyed(const std::string &key, const std::string &context, bool finite = true)
   {
     const std::string k = word(context + " " + key);
     if (k != key) throw std::invalid_argument(context + ": expected '" + key + "', got '" + k + "'");
-    return number(context + " " + key);
+    return number(context + " " + key, finite);
   }
+  // a number word, finite or not (a curve takes "inf" as a value, which its law then refuses)
   bool next_is_number() const
   {
     double v;
-    return !done() && to_number(a_[k_], v);
+    return !done() && classify(a_[k_], v) != Word::TEXT;
   }
 
  private:
@@ -63,11 +82,11 @@ bool is_wire_keyword(const std::string &w)
 void parse_wire(ArgCursor &c, BondTypeSpec &spec)
 {
   WireLawParams &w = spec.wire;
-  w.diameter = c.keyed("diameter", "wire");
+  w.diameter = c.keyed("diameter", "wire", false);
   const std::string kw = c.word("wire 'curve'");
   if (kw != "curve") throw std::invalid_argument("wire: expected 'curve', got '" + kw + "'");
   std::vector<double> values;
-  while (c.next_is_number()) values.push_back(c.number("curve value"));
+  while (c.next_is_number()) values.push_back(c.number("curve value", false));
   // A word where a strain or a stress is due (no value yet, or a stress missing) that is not an
   // option keyword is a mistyped number: name it rather than report a short curve.
   if (!c.done() && (values.empty() || values.size() % 2) && !is_wire_keyword(c.peek()))
@@ -83,22 +102,24 @@ void parse_wire(ArgCursor &c, BondTypeSpec &spec)
   while (!c.done()) {
     const std::string key = c.word("keyword");
     if (key == "family") spec.family = c.word("family name");
-    else if (key == "area_factor") w.area_factor = c.number("area_factor");
+    else if (key == "area_factor") w.area_factor = c.number("area_factor", false);
     else if (key == "derived") {
       w.derived = true;
-      w.lambda_eps = c.keyed("lambda_eps", "derived");
-      w.lambda_k = c.keyed("lambda_k", "derived");
-      w.nu = c.keyed("nu", "derived");
+      w.lambda_eps = c.keyed("lambda_eps", "derived", false);
+      w.lambda_k = c.keyed("lambda_k", "derived", false);
+      w.nu = c.keyed("nu", "derived", false);
     } else if (key == "slack") {
       w.slack = true;
-      w.lambda_u = c.keyed("lambda_u", "slack");
-      w.lambda_f = c.keyed("lambda_f", "slack");
-      const double s = c.keyed("seed", "slack");
-      if (s != (double)(long)s) throw std::invalid_argument("slack seed must be an integer (got " + std::to_string(s) + ")");
+      w.lambda_u = c.keyed("lambda_u", "slack", false);
+      w.lambda_f = c.keyed("lambda_f", "slack", false);
+      const double s = c.keyed("seed", "slack", false);
+      // |s| < 2^53: every such double that is an integer converts to long exactly
+      if (!std::isfinite(s) || std::fabs(s) >= 9007199254740992.0 || s != std::floor(s))
+        throw std::invalid_argument("slack seed must be an integer (got " + fmt(s) + ")");
       w.seed = (long)s;
     } else {
       double ignored;
-      if (to_number(key, ignored)) throw std::invalid_argument("unexpected number '" + key + "' after the wire options");
+      if (classify(key, ignored) != Word::TEXT) throw std::invalid_argument("unexpected number '" + key + "' after the wire options");
       throw std::invalid_argument("unknown wire keyword '" + key + "'");
     }
   }
@@ -108,14 +129,19 @@ void parse_wire(ArgCursor &c, BondTypeSpec &spec)
 void parse_beam(ArgCursor &c, BondTypeSpec &spec)
 {
   BeamLawParams &b = spec.beam;
-  b.diameter = c.keyed("diameter", "beam");
-  b.young = c.keyed("E", "beam");
-  b.nu = c.keyed("nu", "beam");
+  b.diameter = c.keyed("diameter", "beam", false);
+  b.young = c.keyed("E", "beam", false);
+  b.nu = c.keyed("nu", "beam", false);
   while (!c.done()) {
     const std::string key = c.word("keyword");
     if (key == "family") spec.family = c.word("family name");
-    else if (key == "bending") b.bending = c.number("bending fraction");
-    else if (key == "twist") b.twist = c.number("twist fraction");
+    else if (key == "bending") b.bending = c.number("beam bending fraction", false);
+    else if (key == "twist") {
+      // internally twist < 0 means "not given" (= bending): an explicit value must be >= 0
+      b.twist = c.number("beam twist fraction", false);
+      if (!(std::isfinite(b.twist) && b.twist >= 0.0))
+        throw std::invalid_argument("beam twist fraction must be a finite number >= 0 (got " + fmt(b.twist) + ")");
+    }
     else if (key == "shear") {
       const std::string m = c.word("shear model (eb or pb)");
       if (m == "eb") b.shear = ShearModel::EULER_BERNOULLI;

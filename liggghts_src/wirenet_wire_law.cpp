@@ -39,14 +39,19 @@ double unit(uint64_t z) { return (double)(z >> 11) * (1.0 / 9007199254740992.0);
 
 WireLaw::WireLaw(const WireLawParams &p) : p_(p)
 {
-  require(p.diameter > 0.0, "wire diameter must be > 0 (got " + fmt(p.diameter) + ")");
-  require(p.area_factor > 0.0, "wire area_factor must be > 0 (got " + fmt(p.area_factor) + ")");
+  // every check is written so that nan fails it; isfinite refuses inf
+  require(std::isfinite(p.diameter) && p.diameter > 0.0,
+          "wire diameter must be a finite number > 0 (got " + fmt(p.diameter) + ")");
+  require(std::isfinite(p.area_factor) && p.area_factor > 0.0,
+          "wire area_factor must be a finite number > 0 (got " + fmt(p.area_factor) + ")");
   require(!p.strain.empty(), "wire law needs a curve (strain stress pairs)");
   require(p.strain.size() == p.stress.size(), "wire curve needs an even number of values (strain stress pairs)");
   for (size_t i = 0; i < p.strain.size(); ++i) {
     const std::string at = "wire curve point " + std::to_string(i + 1);
-    require(p.strain[i] > 0.0, at + ": strain must be > 0 (got " + fmt(p.strain[i]) + ")");
-    require(p.stress[i] >= 0.0, at + ": stress must be >= 0 (got " + fmt(p.stress[i]) + ")");
+    require(std::isfinite(p.strain[i]) && p.strain[i] > 0.0,
+            at + ": strain must be a finite number > 0 (got " + fmt(p.strain[i]) + ")");
+    require(std::isfinite(p.stress[i]) && p.stress[i] >= 0.0,
+            at + ": stress must be a finite number >= 0 (got " + fmt(p.stress[i]) + ")");
     if (i > 0)
       require(p.strain[i] > p.strain[i - 1], at + ": strains must increase (" + fmt(p.strain[i - 1]) +
                                              " then " + fmt(p.strain[i]) + ")");
@@ -57,7 +62,8 @@ WireLaw::WireLaw(const WireLawParams &p) : p_(p)
   strain_ = p.strain;
   stress_ = p.stress;
   if (p.derived) {
-    require(p.lambda_eps > 0.0, "derived lambda_eps must be > 0 (got " + fmt(p.lambda_eps) + ")");
+    require(std::isfinite(p.lambda_eps) && p.lambda_eps > 0.0,
+            "derived lambda_eps must be a finite number > 0 (got " + fmt(p.lambda_eps) + ")");
     require(p.lambda_k >= 0.0 && p.lambda_k <= 1.0, "derived lambda_k must be in [0,1] (got " + fmt(p.lambda_k) + ")");
     require(p.nu > -1.0 && p.nu < 0.5, "derived nu must be in (-1,0.5) (got " + fmt(p.nu) + ")");
     for (size_t i = 1; i < strain_.size(); ++i) strain_[i] *= p.lambda_eps;
@@ -67,7 +73,8 @@ WireLaw::WireLaw(const WireLawParams &p) : p_(p)
                                            std::to_string(i + 1));
   }
   if (p.slack) {
-    require(p.lambda_u >= 0.0, "slack lambda_u must be >= 0 (got " + fmt(p.lambda_u) + ")");
+    require(std::isfinite(p.lambda_u) && p.lambda_u >= 0.0,
+            "slack lambda_u must be a finite number >= 0 (got " + fmt(p.lambda_u) + ")");
     require(p.lambda_f > 0.0 && p.lambda_f <= 1.0, "slack lambda_f must be in (0,1] (got " + fmt(p.lambda_f) + ")");
     if (p.lambda_f < 1.0) {
       // Softer first loading branch through the slack: an extra point below the elastic one.

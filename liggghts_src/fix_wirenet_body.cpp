@@ -1,0 +1,614 @@
+/* WireNet: fix wirenet/body. See doc/fix_wirenet_body.md.
+
+   Each step: initial_integrate moves the body (kinematic: the prescribed pose at the new time;
+   free: half kick with the last force and torque, then drift, WireNet::RigidBody); post_force
+   finds the contacts of this rank's own nodes with the exact surface (bounding-sphere pre-test,
+   then the shape's nearest-point query in the body frame), adds the contact forces to the nodes
+   and reduces the reaction on the body over all ranks; final_integrate gives the free body its
+   second half kick; end_of_step integrates the power of the contact forces on the nodes.
+   Every rank holds the whole body state and integrates it identically. */
+
+#include "fix_wirenet_body.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "memory.h"
+#include "update.h"
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+using Eigen::AngleAxisd;
+using Eigen::Matrix3d;
+using Eigen::Quaterniond;
+using Eigen::Vector3d;
+
+namespace {
+
+const int NHIST = 4;      // tangential spring x y z, in contact
+const int NRESTART = 36;
+
+// shortest text that reads back as v
+std::string text(double v)
+{
+  char buf[64];
+  for (int digits = 6; digits <= 17; digits++) {
+    snprintf(buf, sizeof buf, "%.*g", digits, v);
+    if (strtod(buf, NULL) == v) break;
+  }
+  return buf;
+}
+
+double number(const char *s, const std::string &what)
+{
+  char *end = NULL;
+  errno = 0;
+  const double v = strtod(s, &end);
+  if (errno || end == s || *end != '\0' || !std::isfinite(v))
+    throw std::invalid_argument(what + " must be a finite number (got '" + s + "')");
+  return v;
+}
+
+// value of keyword arg[k], checked; k advances past it
+double value(int narg, char **arg, int &k, const std::string &key, double lo, bool lo_open)
+{
+  if (k + 1 >= narg) throw std::invalid_argument("'" + key + "' needs a value");
+  const double v = number(arg[k + 1], key);
+  if (lo_open ? !(v > lo) : !(v >= lo))
+    throw std::invalid_argument(key + " must be " + (lo_open ? "> " : ">= ") + text(lo) + " (got " + arg[k + 1] + ")");
+  k += 2;
+  return v;
+}
+
+Vector3d vector3(int narg, char **arg, int &k, const std::string &key)
+{
+  if (k + 3 >= narg) throw std::invalid_argument("'" + key + "' needs 3 values");
+  Vector3d r;
+  for (int d = 0; d < 3; d++) r[d] = number(arg[k + 1 + d], key + " value");
+  k += 4;
+  return r;
+}
+
+bool is_number(const char *s)
+{
+  char *end = NULL;
+  strtod(s, &end);
+  return end != s && *end == '\0';
+}
+
+void to_array(const Quaterniond &q, double *a) { a[0] = q.w(); a[1] = q.x(); a[2] = q.y(); a[3] = q.z(); }
+Quaterniond from_array(const double *a) { return Quaterniond(a[0], a[1], a[2], a[3]).normalized(); }
+
+// Wavefront OBJ subset: 'v x y z' and 'f i j k ...' (1-based; 'i/t/n' forms allowed).
+WireNet::PolyhedronShape read_obj(const std::string &path)
+{
+  std::ifstream in(path.c_str());
+  if (!in) throw std::invalid_argument("polyhedron: cannot open '" + path + "'");
+  std::vector<Vector3d> v;
+  std::vector<std::vector<int> > f;
+  std::string line;
+  int lineno = 0;
+  while (std::getline(in, line)) {
+    lineno++;
+    std::istringstream w(line);
+    std::string tag;
+    if (!(w >> tag) || tag[0] == '#') continue;
+    if (tag == "v") {
+      Vector3d p;
+      if (!(w >> p[0] >> p[1] >> p[2]) || !p.allFinite())
+        throw std::invalid_argument("polyhedron: '" + path + "' line " + std::to_string(lineno) + ": bad vertex");
+      v.push_back(p);
+    } else if (tag == "f") {
+      std::vector<int> loop;
+      std::string item;
+      while (w >> item) {
+        const int i = atoi(item.substr(0, item.find('/')).c_str());
+        if (i < 1) throw std::invalid_argument("polyhedron: '" + path + "' line " + std::to_string(lineno) + ": bad face index '" + item + "'");
+        loop.push_back(i - 1);
+      }
+      f.push_back(loop);
+    }
+  }
+  return WireNet::PolyhedronShape(v, f, "polyhedron");
+}
+
+// Linear spring-dashpot normal force, tangential spring with Coulomb limit. delta > 0 overlap,
+// n unit normal from the body to the node, r radius and m mass of the node; x, v, w: position,
+// velocity and angular velocity of the node (i) and of the body's reference point (b); h the
+// node's history (advanced only if advance). Out: force F and torque T on the node, contact
+// point c (middle of the overlap). Returns the elastic energy of the contact.
+double node_contact(const FixWirenetBody::Law &law, double delta, const Vector3d &n, double r, double m,
+                    const Vector3d &xi, const Vector3d &vi, const Vector3d &wi, const Vector3d &xb,
+                    const Vector3d &vb, const Vector3d &wb, double dt, bool advance, double *h,
+                    Vector3d &F, Vector3d &T, Vector3d &c)
+{
+  const Vector3d a = -(r - 0.5 * delta) * n;
+  c = xi + a;
+  const Vector3d vrel = vi + wi.cross(a) - vb - wb.cross(c - xb);
+  const double vn = vrel.dot(n);
+  const double fn = law.kn * delta - law.gamma_n * m * vn;
+  Vector3d s = Vector3d::Zero();
+  if (h[3] != 0.0) {
+    // keep the spring in the tangent plane, with its length (the contact turned)
+    s = Vector3d(h[0], h[1], h[2]);
+    const double len = s.norm();
+    s -= s.dot(n) * n;
+    const double len2 = s.norm();
+    if (len2 > 0.0) s *= len / len2;
+  }
+  if (advance) s += dt * (vrel - vn * n);
+  Vector3d ft = -law.kt * s;
+  const double fmax = law.mu * std::fabs(fn), ftm = ft.norm();
+  if (ftm > fmax) {
+    ft *= fmax / ftm;
+    s = law.kt > 0.0 ? Vector3d(-ft / law.kt) : Vector3d::Zero();
+  }
+  if (advance) {
+    h[0] = s[0]; h[1] = s[1]; h[2] = s[2];
+    h[3] = 1.0;
+  }
+  F = fn * n + ft;
+  T = a.cross(ft);
+  return 0.5 * law.kn * delta * delta + (law.kt > 0.0 ? 0.5 * ft.squaredNorm() / law.kt : 0.0);
+}
+
+}
+
+FixWirenetBody::FixWirenetBody(LAMMPS *lmp, int narg, char **arg) :
+  Fix(lmp, narg, arg), free_body(false), gravity(Vector3d::Zero()), x0(Vector3d::Zero()),
+  vel_kin(Vector3d::Zero()), omega_kin(Vector3d::Zero()), q0(Quaterniond::Identity()), ramp(0.0),
+  elapsed(0.0), pos(Vector3d::Zero()), vel(Vector3d::Zero()), omega(Vector3d::Zero()),
+  f_body(Vector3d::Zero()), t_body(Vector3d::Zero()), ncontact(0.0), elastic(0.0), work_body(0.0),
+  work_nodes_mine(0.0), work_nodes_all(0.0), hist(NULL), hist_rows(0), contacts_pending(false)
+{
+  law.kn = law.kt = law.mu = law.gamma_n = 0.0;
+  try {
+    parse(narg, arg);
+  } catch (const std::invalid_argument &e) {
+    error->all(FLERR, (std::string("fix wirenet/body: ") + e.what()).c_str());
+  }
+  if (!atom->radius_flag)
+    error->all(FLERR, "fix wirenet/body: needs atoms with a radius (atom_style granular, sphere or hybrid with one)");
+  update_pose();
+  q_defined = q_shape;
+
+  vector_flag = 1;
+  size_vector = NVECTOR;
+  global_freq = 1;
+  extvector = 0;
+  restart_global = 1;
+  restart_peratom = 1;
+  time_integrate = 0;
+
+  grow_arrays(atom->nmax);
+  atom->add_callback(0);
+  atom->add_callback(1);
+}
+
+FixWirenetBody::~FixWirenetBody()
+{
+  atom->delete_callback(id, 0);
+  atom->delete_callback(id, 1);
+  memory->destroy(hist);
+}
+
+void FixWirenetBody::parse(int narg, char **arg)
+{
+  if (narg < 4) throw std::invalid_argument("missing shape (sphere, spheroid, cone, plane, box, truncated-cube, polyhedron)");
+  const std::string kind = arg[3];
+  int k = 4;
+  // shape parameters: all numbers up to the first keyword
+  auto shape_values = [&](int n, const char *usage) {
+    std::vector<double> vals;
+    for (int j = 0; j < n; j++) {
+      if (k + j >= narg || !is_number(arg[k + j]))
+        throw std::invalid_argument(std::string("'") + kind + "' needs " + usage +
+                                    (k + j < narg ? std::string(" (got '") + arg[k + j] + "')" : std::string("")));
+      vals.push_back(number(arg[k + j], kind + " parameter"));
+    }
+    k += n;
+    return vals;
+  };
+  if (kind == "sphere") {
+    std::vector<double> p = shape_values(1, "a radius R");
+    shape.reset(new WireNet::SphereShape(p[0]));
+  } else if (kind == "spheroid") {
+    std::vector<double> p = shape_values(3, "3 semi-axes a b c");
+    shape.reset(new WireNet::EllipsoidShape(p[0], p[1], p[2]));
+  } else if (kind == "cone") {
+    std::vector<double> p = shape_values(3, "base radius, height and tip radius R h a");
+    shape.reset(new WireNet::ConeShape(p[0], p[1], p[2]));
+  } else if (kind == "plane") {
+    shape.reset(new WireNet::PlaneShape());
+  } else if (kind == "box") {
+    std::vector<double> p = shape_values(3, "3 side lengths lx ly lz");
+    shape.reset(new WireNet::PolyhedronShape(WireNet::PolyhedronShape::box(p[0], p[1], p[2])));
+  } else if (kind == "truncated-cube") {
+    std::vector<double> p = shape_values(2, "side and corner cut s c");
+    shape.reset(new WireNet::PolyhedronShape(WireNet::PolyhedronShape::truncated_cube(p[0], p[1])));
+  } else if (kind == "polyhedron") {
+    if (k >= narg) throw std::invalid_argument("'polyhedron' needs an OBJ file name");
+    shape.reset(new WireNet::PolyhedronShape(read_obj(arg[k])));
+    k++;
+  } else {
+    throw std::invalid_argument("unknown shape '" + kind + "' (use sphere, spheroid, cone, plane, box, truncated-cube, polyhedron)");
+  }
+
+  double mass = -1.0;
+  bool have_inertia = false, have_kn = false, have_ramp = false, have_gravity = false;
+  Matrix3d inertia = Matrix3d::Zero();
+  Vector3d v0 = Vector3d::Zero(), w0 = Vector3d::Zero();
+  while (k < narg) {
+    const std::string key = arg[k];
+    if (key == "centre") {
+      x0 = vector3(narg, arg, k, key);
+    } else if (key == "axis") {
+      const Vector3d a = vector3(narg, arg, k, key);
+      if (!(a.norm() > 0.0)) throw std::invalid_argument("axis must not be 0 0 0");
+      q0 = Quaterniond::FromTwoVectors(Vector3d::UnitZ(), a.normalized());
+      // FromTwoVectors is ill-conditioned for the antiparallel case; make -z exact
+      if (a.normalized().dot(Vector3d::UnitZ()) < -1.0 + 1e-15) q0 = Quaterniond(0.0, 1.0, 0.0, 0.0);
+      q0.normalize();
+    } else if (key == "quat") {
+      if (k + 4 >= narg) throw std::invalid_argument("'quat' needs 4 values: w x y z");
+      double c[4];
+      for (int d = 0; d < 4; d++) c[d] = number(arg[k + 1 + d], "quat value");
+      const Quaterniond q(c[0], c[1], c[2], c[3]);
+      if (!(q.norm() > 0.0)) throw std::invalid_argument("quat must not be 0 0 0 0");
+      q0 = q.normalized();
+      k += 5;
+    } else if (key == "kn") {
+      law.kn = value(narg, arg, k, key, 0.0, true);
+      have_kn = true;
+    } else if (key == "kt") {
+      law.kt = value(narg, arg, k, key, 0.0, false);
+    } else if (key == "mu") {
+      law.mu = value(narg, arg, k, key, 0.0, false);
+    } else if (key == "gamma_n") {
+      law.gamma_n = value(narg, arg, k, key, 0.0, false);
+    } else if (key == "vel") {
+      v0 = vector3(narg, arg, k, key);
+    } else if (key == "omega") {
+      w0 = vector3(narg, arg, k, key);
+    } else if (key == "ramp") {
+      ramp = value(narg, arg, k, key, 0.0, false);
+      have_ramp = true;
+    } else if (key == "mass") {
+      mass = value(narg, arg, k, key, 0.0, true);
+    } else if (key == "inertia") {
+      if (k + 6 >= narg) throw std::invalid_argument("'inertia' needs 6 values: Ixx Iyy Izz Ixy Ixz Iyz");
+      double c[6];
+      for (int d = 0; d < 6; d++) c[d] = number(arg[k + 1 + d], "inertia value");
+      inertia << c[0], c[3], c[4],
+                 c[3], c[1], c[5],
+                 c[4], c[5], c[2];
+      have_inertia = true;
+      k += 7;
+    } else if (key == "gravity") {
+      gravity = vector3(narg, arg, k, key);
+      have_gravity = true;
+    } else {
+      throw std::invalid_argument("unknown keyword '" + key + "'");
+    }
+  }
+  if (!have_kn) throw std::invalid_argument("missing 'kn K' (normal contact stiffness, N/m)");
+  if (law.mu > 0.0 && law.kt == 0.0) throw std::invalid_argument("mu " + text(law.mu) + " needs a tangential stiffness 'kt' > 0");
+  free_body = mass > 0.0;
+  if (!free_body) {
+    if (have_inertia) throw std::invalid_argument("'inertia' needs a free body: give 'mass M'");
+    if (have_gravity) throw std::invalid_argument("'gravity' acts on a free body only: give 'mass M'");
+    vel_kin = v0;
+    omega_kin = w0;
+    return;
+  }
+  if (have_ramp) throw std::invalid_argument("'ramp' is for a kinematic body (no 'mass')");
+  if (!shape->centred())
+    throw std::invalid_argument("a " + shape->name() + " cannot be a free body (its reference point is not its centre of "
+                                "mass); use sphere, spheroid, box, truncated-cube or a polyhedron centred on its centroid");
+  if (!have_inertia) {
+    Matrix3d unit;
+    if (!shape->unit_inertia(unit)) throw std::invalid_argument("missing 'inertia Ixx Iyy Izz Ixy Ixz Iyz'");
+    const Matrix3d R = q0.toRotationMatrix();
+    inertia = mass * R * unit * R.transpose();
+    inertia = 0.5 * (inertia + inertia.transpose());
+  }
+  body.reset(new WireNet::RigidBody(mass, inertia));
+  body->x = x0;
+  body->v = v0;
+  body->set_omega(w0);
+  q_shape_in_body = (body->q.conjugate() * q0).normalized();
+}
+
+int FixWirenetBody::setmask()
+{
+  return INITIAL_INTEGRATE | POST_FORCE | FINAL_INTEGRATE | END_OF_STEP;
+}
+
+void FixWirenetBody::init()
+{
+  const std::string pre = "fix wirenet/body: ";
+  if (domain->xperiodic || domain->yperiodic || domain->zperiodic)
+    error->all(FLERR, (pre + "periodic boundaries are not supported").c_str());
+  if (strstr(update->integrate_style, "respa")) error->all(FLERR, (pre + "run_style respa is not supported").c_str());
+  if (!atom->rmass_flag && !atom->mass)
+    error->all(FLERR, (pre + "atoms need a mass").c_str());
+}
+
+void FixWirenetBody::update_pose()
+{
+  if (free_body) {
+    pos = body->x;
+    vel = body->v;
+    omega = body->omega();
+    q_shape = (body->q * q_shape_in_body).normalized();
+    return;
+  }
+  const double t = elapsed;
+  if (ramp > 0.0 && t < ramp) {
+    pos = x0 + (t * t / (2.0 * ramp)) * vel_kin;
+    vel = (t / ramp) * vel_kin;
+  } else {
+    pos = x0 + (t - 0.5 * ramp) * vel_kin;
+    vel = vel_kin;
+  }
+  omega = omega_kin;
+  const double w = omega_kin.norm();
+  q_shape = w > 0.0 ? Quaterniond(AngleAxisd(w * t, omega_kin / w) * q0).normalized() : q0;
+}
+
+// Forces at the setup of a run: the history is read but not advanced (a run continues where the
+// last one, or the restart file, left it).
+void FixWirenetBody::setup(int)
+{
+  update_pose();
+  compute_contacts(false);
+}
+
+void FixWirenetBody::initial_integrate(int)
+{
+  const double dt = update->dt;
+  if (free_body) {
+    body->kick(f_body + body->mass() * gravity, t_body, 0.5 * dt);
+    body->drift(dt);
+  } else {
+    elapsed += dt;
+  }
+  update_pose();
+}
+
+void FixWirenetBody::post_force(int)
+{
+  compute_contacts(true);
+}
+
+void FixWirenetBody::compute_contacts(bool advance)
+{
+  const double dt = update->dt;
+  const Matrix3d R = q_shape.toRotationMatrix();
+  const double bound = shape->bounding_radius();
+  const bool bounded = std::isfinite(bound);
+  double **x = atom->x, **v = atom->v, **f = atom->f;
+  double **w = atom->omega_flag ? atom->omega : NULL, **tq = atom->torque_flag ? atom->torque : NULL;
+  const double *radius = atom->radius, *rmass = atom->rmass_flag ? atom->rmass : NULL, *mass = atom->mass;
+  const int *mask = atom->mask, *type = atom->type;
+  const int nlocal = atom->nlocal;
+  double sums[8] = { 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0 };
+  contacts.clear();
+  WireNet::SurfacePoint sp;
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    const Vector3d xi(x[i][0], x[i][1], x[i][2]);
+    const Vector3d rel = xi - pos;
+    const double r = radius[i];
+    if (bounded && rel.squaredNorm() > (bound + r) * (bound + r)) {
+      if (advance) hist[i][3] = hist[i][0] = hist[i][1] = hist[i][2] = 0.0;
+      continue;
+    }
+    shape->query(R.transpose() * rel, sp);
+    const double delta = r - sp.dist;
+    if (!(delta > 0.0)) {
+      if (advance) hist[i][3] = hist[i][0] = hist[i][1] = hist[i][2] = 0.0;
+      continue;
+    }
+    const Vector3d n = R * sp.normal;
+    const Vector3d vi(v[i][0], v[i][1], v[i][2]);
+    const Vector3d wi = w ? Vector3d(w[i][0], w[i][1], w[i][2]) : Vector3d::Zero();
+    const double m = rmass ? rmass[i] : mass[type[i]];
+    NodeContact nc;
+    nc.i = i;
+    Vector3d c;
+    const double e = node_contact(law, delta, n, r, m, xi, vi, wi, pos, vel, omega, dt, advance, hist[i], nc.f, nc.t, c);
+    for (int d = 0; d < 3; d++) {
+      f[i][d] += nc.f[d];
+      if (tq) tq[i][d] += nc.t[d];
+    }
+    const Vector3d tb = (c - pos).cross(-nc.f);
+    for (int d = 0; d < 3; d++) {
+      sums[d] -= nc.f[d];
+      sums[3 + d] += tb[d];
+    }
+    sums[6] += 1.0;
+    sums[7] += e;
+    contacts.push_back(nc);
+  }
+  double all[8];
+  MPI_Allreduce(sums, all, 8, MPI_DOUBLE, MPI_SUM, world);
+  f_body = Vector3d(all[0], all[1], all[2]);
+  t_body = Vector3d(all[3], all[4], all[5]);
+  ncontact = all[6];
+  elastic = all[7];
+  contacts_pending = advance;
+}
+
+void FixWirenetBody::final_integrate()
+{
+  const double dt = update->dt;
+  if (free_body) {
+    body->kick(f_body + body->mass() * gravity, t_body, 0.5 * dt);
+    update_pose();
+  }
+  // F(t+dt) . v(t+dt) dt, the convention of fix wirenet/damping and wirenet/contactwork
+  work_body += dt * (f_body.dot(vel) + t_body.dot(omega));
+}
+
+void FixWirenetBody::end_of_step()
+{
+  if (!contacts_pending) return;
+  const double dt = update->dt;
+  double **v = atom->v, **w = atom->omega_flag ? atom->omega : NULL;
+  for (size_t k = 0; k < contacts.size(); k++) {
+    const NodeContact &c = contacts[k];
+    const int i = c.i;
+    double p = c.f[0] * v[i][0] + c.f[1] * v[i][1] + c.f[2] * v[i][2];
+    if (w) p += c.t[0] * w[i][0] + c.t[1] * w[i][1] + c.t[2] * w[i][2];
+    work_nodes_mine += dt * p;
+  }
+  contacts_pending = false;
+}
+
+double FixWirenetBody::compute_vector(int n)
+{
+  if (n < 3) return f_body[n];
+  if (n < 6) return t_body[n - 3];
+  if (n < 9) return pos[n - 6];
+  if (n < 12) return vel[n - 9];
+  if (n == 12) return ncontact;
+  if (n == 13) {
+    MPI_Allreduce(&work_nodes_mine, &work_nodes_all, 1, MPI_DOUBLE, MPI_SUM, world);
+    return work_nodes_all;
+  }
+  if (n == 14) return work_body;
+  if (n < 18) return omega[n - 15];
+  if (n == 18) return free_body ? body->kinetic_energy() : 0.0;
+  if (n == 19) return free_body ? -body->mass() * gravity.dot(pos) : 0.0;
+  if (n == 24) return elastic;
+  Quaterniond r = (q_shape * q_defined.conjugate()).normalized();
+  if (r.w() < 0.0) r.coeffs() *= -1.0;
+  const double c[4] = { r.w(), r.x(), r.y(), r.z() };
+  return c[n - 20];
+}
+
+// ---- restart ------------------------------------------------------------------------------
+
+void FixWirenetBody::write_restart(FILE *fp)
+{
+  MPI_Allreduce(&work_nodes_mine, &work_nodes_all, 1, MPI_DOUBLE, MPI_SUM, world);
+  if (comm->me != 0) return;
+  double list[NRESTART];
+  for (int k = 0; k < NRESTART; k++) list[k] = 0.0;
+  list[0] = free_body ? 1.0 : 0.0;
+  list[1] = elapsed;
+  list[2] = work_body;
+  list[3] = work_nodes_all;
+  to_array(q_defined, &list[21]);
+  for (int d = 0; d < 3; d++) list[29 + d] = x0[d];
+  to_array(q0, &list[32]);
+  if (free_body) {
+    for (int d = 0; d < 3; d++) {
+      list[4 + d] = body->x[d];
+      list[7 + d] = body->v[d];
+      list[10 + d] = body->L[d];
+      list[26 + d] = body->principal_moments()[d];
+    }
+    to_array(body->q, &list[13]);
+    to_array(q_shape_in_body, &list[17]);
+    list[25] = body->mass();
+  }
+  int size = NRESTART * sizeof(double);
+  fwrite(&size, sizeof(int), 1, fp);
+  fwrite(list, sizeof(double), NRESTART, fp);
+}
+
+void FixWirenetBody::restart(char *buf)
+{
+  const double *list = (const double *)buf;
+  if ((list[0] != 0.0) != free_body)
+    error->all(FLERR, free_body ? "fix wirenet/body: the restart file holds a kinematic body, this fix defines a free one"
+                                : "fix wirenet/body: the restart file holds a free body, this fix defines a kinematic one");
+  elapsed = list[1];
+  work_body = list[2];
+  work_nodes_mine = comm->me == 0 ? list[3] : 0.0;
+  q_defined = from_array(&list[21]);
+  x0 = Vector3d(list[29], list[30], list[31]);
+  q0 = from_array(&list[32]);
+  if (free_body) {
+    const Vector3d moments(list[26], list[27], list[28]);
+    if ((moments - body->principal_moments()).norm() > 1e-12 * moments.norm() ||
+        std::fabs(list[25] - body->mass()) > 1e-12 * list[25])
+      error->all(FLERR, "fix wirenet/body: mass or inertia differ from the restart file's");
+    body->x = Vector3d(list[4], list[5], list[6]);
+    body->v = Vector3d(list[7], list[8], list[9]);
+    body->L = Vector3d(list[10], list[11], list[12]);
+    body->q = from_array(&list[13]);
+    q_shape_in_body = from_array(&list[17]);
+  }
+  update_pose();
+}
+
+// ---- per-atom tangential history ----------------------------------------------------------
+
+void FixWirenetBody::grow_arrays(int nmax)
+{
+  memory->grow(hist, nmax, NHIST, "wirenet/body:hist");
+  for (int i = hist_rows; i < nmax; i++)
+    for (int k = 0; k < NHIST; k++) hist[i][k] = 0.0;
+  if (nmax > hist_rows) hist_rows = nmax;
+}
+
+void FixWirenetBody::copy_arrays(int i, int j, int)
+{
+  for (int k = 0; k < NHIST; k++) hist[j][k] = hist[i][k];
+}
+
+void FixWirenetBody::set_arrays(int i)
+{
+  for (int k = 0; k < NHIST; k++) hist[i][k] = 0.0;
+}
+
+int FixWirenetBody::pack_exchange(int i, double *buf)
+{
+  for (int k = 0; k < NHIST; k++) buf[k] = hist[i][k];
+  return NHIST;
+}
+
+int FixWirenetBody::unpack_exchange(int nlocal, double *buf)
+{
+  for (int k = 0; k < NHIST; k++) hist[nlocal][k] = buf[k];
+  return NHIST;
+}
+
+int FixWirenetBody::pack_restart(int i, double *buf)
+{
+  buf[0] = NHIST + 1;
+  for (int k = 0; k < NHIST; k++) buf[1 + k] = hist[i][k];
+  return NHIST + 1;
+}
+
+void FixWirenetBody::unpack_restart(int nlocal, int nth)
+{
+  double **extra = atom->extra;
+  int m = 0;
+  for (int i = 0; i < nth; i++) m += static_cast<int>(extra[nlocal][m]);
+  m++;
+  for (int k = 0; k < NHIST; k++) hist[nlocal][k] = extra[nlocal][m++];
+}
+
+int FixWirenetBody::size_restart(int) { return NHIST + 1; }
+
+int FixWirenetBody::maxsize_restart() { return NHIST + 1; }
+
+double FixWirenetBody::memory_usage()
+{
+  return (double)atom->nmax * NHIST * sizeof(double) + contacts.capacity() * sizeof(NodeContact);
+}

@@ -1,0 +1,99 @@
+/* WireNet: fix wirenet/body, an analytic rigid body (sphere, spheroid, cone, plane, box,
+   truncated cube, convex polyhedron) in contact with the node spheres of its group: linear
+   normal spring with optional viscous damping, tangential spring with Coulomb friction (history
+   per atom). The body moves kinematically (prescribed velocity, optional ramp, spin) or as a
+   free 6-DOF body (WireNet::RigidBody). See doc/fix_wirenet_body.md. */
+
+#ifdef FIX_CLASS
+
+FixStyle(wirenet/body,FixWirenetBody)
+
+#else
+
+#ifndef LMP_FIX_WIRENET_BODY_H
+#define LMP_FIX_WIRENET_BODY_H
+
+#include "fix.h"
+#include "wirenet_body_shapes.h"
+#include "wirenet_rigid_body.h"
+#include <Eigen/Geometry>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace LAMMPS_NS {
+
+class FixWirenetBody : public Fix {
+ public:
+  // global vector: F(3) T(3) x(3) v(3) ncontact W_nodes W_body omega(3) KE PE q(4) E_elastic
+  static const int NVECTOR = 25;
+
+  FixWirenetBody(class LAMMPS *, int, char **);
+  ~FixWirenetBody();
+  int setmask();
+  void init();
+  void setup(int);
+  void initial_integrate(int);
+  void post_force(int);
+  void final_integrate();
+  void end_of_step();
+  void reset_dt() {}
+  double compute_vector(int);
+  void write_restart(FILE *);
+  void restart(char *);
+
+  void grow_arrays(int);
+  void copy_arrays(int, int, int);
+  void set_arrays(int);
+  int pack_exchange(int, double *);
+  int unpack_exchange(int, double *);
+  int pack_restart(int, double *);
+  void unpack_restart(int, int);
+  int size_restart(int);
+  int maxsize_restart();
+  double memory_usage();
+
+  // contact law of one node with the body (no I/O, no allocation)
+  struct Law {
+    double kn, kt, mu, gamma_n;
+  };
+  struct NodeContact {
+    int i;                    // local atom
+    Eigen::Vector3d f, t;     // force and torque on the node
+  };
+
+ private:
+  std::unique_ptr<WireNet::BodyShape> shape;
+  Law law;
+  bool free_body;
+  std::unique_ptr<WireNet::RigidBody> body;
+  Eigen::Quaterniond q_shape_in_body;  // free: shape frame in the principal frame
+  Eigen::Vector3d gravity;
+  // kinematic motion: x(t) from x0, vel and ramp; orientation exp(omega t) q0
+  Eigen::Vector3d x0, vel_kin, omega_kin;
+  Eigen::Quaterniond q0;
+  double ramp;
+  double elapsed;                      // time since the fix was defined (kinematic clock)
+  // pose at the last update: reference point, its velocity, angular velocity, shape frame
+  Eigen::Vector3d pos, vel, omega;
+  Eigen::Quaterniond q_shape, q_defined;
+  // results of the last force evaluation, summed over ranks
+  Eigen::Vector3d f_body, t_body;
+  double ncontact, elastic;
+  double work_body;                    // work of the contact forces on the body (all ranks)
+  double work_nodes_mine;              // work of the contact forces on this rank's nodes
+  double work_nodes_all;
+  double **hist;                       // per atom: tangential spring (3), in contact (1)
+  int hist_rows;                       // rows of hist allocated (new rows start at zero)
+  std::vector<NodeContact> contacts;   // this rank's contacts of the last post_force
+  bool contacts_pending;               // contacts to account at end_of_step
+
+  void parse(int narg, char **arg);
+  void update_pose();
+  void compute_contacts(bool advance);
+};
+
+}
+
+#endif
+#endif

@@ -1,0 +1,436 @@
+"""fix wirenet/body: analytic rigid bodies (exact geometry, no facets) in contact with node spheres.
+
+- a node pressed a known overlap into a sphere, a spheroid, a cone flank, the cone's flat tip and
+  its rim, a plane, and a truncated cube's face, edge and vertex gets kn * overlap along the
+  exact normal (closed form, 1e-9 relative);
+- the spheroid's nearest point (Eberly's bisection) against an independent numerical
+  minimisation (scipy) for random points inside and outside;
+- friction: the tangential spring grows as kt * v * t, then the force stays at mu * Fn;
+- a kinematic body follows its prescribed motion (ramp, then constant velocity; spin) exactly;
+- a free sphere dropped on free nodes conserves momentum plus the impulse of its weight, and its
+  energy budget closes with the contact-work outputs;
+- 1 and 2 MPI ranks give the same body history with the cut through the contact region;
+- write_restart / read_restart continues the same trajectory (body state and friction history);
+- bad arguments stop with one ERROR line naming the keyword and value.
+"""
+
+import math
+import re
+
+import numpy as np
+import pytest
+
+import lmp
+from test_wire_errors import check_error
+
+# global vector of fix wirenet/body (1-based index -> name)
+COLUMNS = ["fx", "fy", "fz", "tx", "ty", "tz", "x", "y", "z", "vx", "vy", "vz", "n", "w_nodes", "w_body",
+           "wx", "wy", "wz", "ke", "pe", "qw", "qx", "qy", "qz", "e_el"]
+
+KN = 1e6
+MDROP = 1.0
+
+
+def header(box=5.0, extra=""):
+    return f"""units si
+atom_style granular
+atom_modify map array sort 0 0
+boundary f f f
+newton off
+communicate single vel yes
+{extra}
+region box block {-box} {box} {-box} {box} {-box} {box} units box
+create_box 1 box
+neighbor 0.01 bin
+neigh_modify delay 0
+"""
+
+
+def node(k, p, r, rho=7850.0):
+    return (f"create_atoms 1 single {p[0]!r} {p[1]!r} {p[2]!r} units box\n"
+            f"set atom {k} diameter {2 * r!r} density {rho!r}\n")
+
+
+def thermo(fixes, every, extra="", names=COLUMNS):
+    cols = " ".join(f"f_{f}[{COLUMNS.index(n) + 1}]" for f in fixes for n in names)
+    return f"thermo_style custom step time {cols} {extra}\nthermo_modify format float %.17g\nthermo {every}\n"
+
+
+def rows_of(out, fixes):
+    table = []
+    for r in lmp.thermo_rows(out):
+        d = {"step": r["Step"], "time": r["Time"]}
+        for f in fixes:
+            d[f] = {name: r[f"{f}[{k + 1}]"] for k, name in enumerate(COLUMNS) if f"{f}[{k + 1}]" in r}
+        for key, val in r.items():
+            if "[" not in key:
+                d[key] = val
+        table.append(d)
+    return table
+
+
+def vec(row, *names):
+    return np.array([row[n] for n in names])
+
+
+def quat_rotate(q, v):
+    w, x, y, z = q
+    u = np.array([x, y, z])
+    return v + 2 * np.cross(u, np.cross(u, v) + w * v)
+
+
+def axis_angle(axis, angle):
+    axis = np.asarray(axis, float) / np.linalg.norm(axis)
+    return np.concatenate([[math.cos(angle / 2)], math.sin(angle / 2) * axis])
+
+
+def from_z(axis):
+    """Quaternion of the minimal rotation taking +z to axis (Eigen's FromTwoVectors)."""
+    a = np.asarray(axis, float) / np.linalg.norm(axis)
+    z = np.array([0.0, 0.0, 1.0])
+    c = np.dot(z, a)
+    if c < -1 + 1e-15:
+        return np.array([0.0, 1.0, 0.0, 0.0])
+    q = np.concatenate([[1 + c], np.cross(z, a)])
+    return q / np.linalg.norm(q)
+
+
+# ---- closed-form contacts -------------------------------------------------------------------
+
+def contact_cases():
+    """(name, shape args and placement, centre, orientation quaternion, local surface point,
+    local outward normal at it): the node sits at distance d = r - overlap along the normal."""
+    cases = []
+    cases.append(("sphere", "sphere 0.3", (0.1, -0.2, 0.05), (1.0, 0, 0, 0),
+                  0.3 * np.array([0.36, 0.48, 0.8]), np.array([0.36, 0.48, 0.8])))
+    # spheroid, axis tilted: the semi-spheroid platter's full spheroid
+    a, b, c = 0.5, 0.5, 0.15
+    th, ph = 0.7, 2.1
+    s = np.array([a * math.sin(th) * math.cos(ph), b * math.sin(th) * math.sin(ph), c * math.cos(th)])
+    n = s / np.array([a, b, c]) ** 2
+    cases.append(("spheroid", f"spheroid {a} {b} {c}", (0.0, 0.1, -0.2), from_z([0.3, -0.2, 1.0]), s,
+                  n / np.linalg.norm(n)))
+    # triaxial, near the pole of the smallest axis
+    a, b, c = 0.5, 0.3, 0.15
+    th, ph = 0.15, 0.4
+    s = np.array([a * math.sin(th) * math.cos(ph), b * math.sin(th) * math.sin(ph), -c * math.cos(th)])
+    n = s / np.array([a, b, c]) ** 2
+    cases.append(("ellipsoid", f"spheroid {a} {b} {c}", (0.2, 0.0, 0.1), (1.0, 0, 0, 0), s, n / np.linalg.norm(n)))
+    # cone R 0.34, h 0.78, tip radius 0.02, tip pointing down (as wirenet-gen's, axis 0 0 -1)
+    R, h, tip = 0.34, 0.78, 0.02
+    rho = 0.2
+    nf = np.array([h, R - tip]) / math.hypot(h, R - tip)
+    phi = 0.3
+    u = np.array([math.cos(phi), math.sin(phi), 0.0])
+    cone = f"cone {R} {h} {tip}"
+    down = from_z([0, 0, -1])
+    cases.append(("cone flank", cone, (0.0, 0.0, 1.0), down,
+                  rho * u + np.array([0, 0, h * (R - rho) / (R - tip)]), nf[0] * u + np.array([0, 0, nf[1]])))
+    cases.append(("cone tip", cone, (0.0, 0.0, 1.0), down, np.array([0.004, -0.007, h]), np.array([0.0, 0.0, 1.0])))
+    # beyond the rim of the tip disc: the nearest point is the rim, the normal bisects
+    nr = np.array([1.0, 0.0, 1.0]) / math.sqrt(2)
+    cases.append(("cone rim", cone, (0.0, 0.0, 1.0), down, np.array([tip, 0.0, h]), nr))
+    cases.append(("plane", "plane", (0.0, 0.0, 0.1), from_z([1.0, 1.0, 1.0]), np.array([0.2, -0.1, 0.0]),
+                  np.array([0.0, 0.0, 1.0])))
+    # truncated cube 0.45, cut 0.15: face, edge (between two octagons), vertex
+    hh, k = 0.225, 0.075
+    tc = "truncated-cube 0.45 0.15"
+    tilt = axis_angle([1.0, 2.0, 0.5], 0.4)
+    cases.append(("cube face", tc, (0.0, 0.0, 0.0), tilt, np.array([hh, 0.05, 0.02]), np.array([1.0, 0, 0])))
+    cases.append(("cube edge", tc, (0.0, 0.0, 0.0), tilt, np.array([hh, hh, 0.03]),
+                  np.array([1.0, 1.0, 0.0]) / math.sqrt(2)))
+    nv = np.array([1.0, 1.0, 0.0]) + np.array([1.0, 1.0, 1.0]) / math.sqrt(3)
+    cases.append(("cube vertex", tc, (0.0, 0.0, 0.0), tilt, np.array([hh, hh, k]), nv / np.linalg.norm(nv)))
+    cases.append(("cut face", tc, (0.0, 0.0, 0.0), tilt, np.array([hh - 0.04, hh - 0.04, hh - 0.07]),
+                  np.array([1.0, 1.0, 1.0]) / math.sqrt(3)))
+    cases.append(("box corner", "box 0.4 0.3 0.2", (0.0, 0.0, 0.0), (1.0, 0, 0, 0), np.array([0.2, 0.15, 0.1]),
+                  np.array([1.0, 2.0, 3.0]) / math.sqrt(14)))
+    # octahedron |x| + |y| + |z| <= 0.2 from an OBJ file (written by the test): face and vertex
+    cases.append(("obj face", "polyhedron octa.obj", (0.0, 0.0, 0.0), axis_angle([0.0, 1.0, 1.0], 0.3),
+                  np.array([0.05, 0.07, 0.08]), np.array([1.0, 1.0, 1.0]) / math.sqrt(3)))
+    cases.append(("obj vertex", "polyhedron octa.obj", (0.0, 0.0, 0.0), (1.0, 0, 0, 0), np.array([0.0, 0.0, -0.2]),
+                  np.array([0.1, -0.2, -1.0]) / math.sqrt(1.05)))
+    return cases
+
+
+def test_pressed_node_gets_kn_overlap_along_the_exact_normal(tmp_path):
+    r, overlap = 0.01, 1e-3
+    d = r - overlap
+    cases = contact_cases()
+    octa = ["v 0.2 0 0", "v -0.2 0 0", "v 0 0.2 0", "v 0 -0.2 0", "v 0 0 0.2", "v 0 0 -0.2"]
+    octa += [f"f {i} {j} {k}" for i in (1, 2) for j in (3, 4) for k in (5, 6)]
+    tmp_path.mkdir(parents=True, exist_ok=True)
+    (tmp_path / "octa.obj").write_text("# octahedron\n" + "\n".join(octa) + "\n")
+    deck = header(box=40.0)
+    fixes, expect = [], []
+    for k, (name, shape, centre, q, s, n) in enumerate(cases):
+        shift = np.array([6.0 * (k % 10) - 27.0, 6.0 * (k // 10) - 3.0, 0.0])   # one body per 6 m cell
+        c = np.array(centre) + shift
+        p = c + quat_rotate(q, s + d * n)
+        deck += node(k + 1, p, r) + f"group g{k + 1} id {k + 1}\n"
+        qs = " ".join(repr(float(v)) for v in q)
+        deck += (f"fix b{k + 1} g{k + 1} wirenet/body {shape} centre {c[0]!r} {c[1]!r} {c[2]!r} quat {qs} "
+                 f"kn {KN!r} kt 1e5 mu 0.3\n")
+        fixes.append(f"b{k + 1}")
+        expect.append((name, -KN * overlap * quat_rotate(q, n), c, p))
+    deck += thermo(fixes, 1, names=["fx", "fy", "fz", "tx", "ty", "tz", "n", "e_el"]) + "run 0\n"
+    row = rows_of(lmp.run_deck(deck, tmp_path), fixes)[-1]
+    for f, (name, force, c, p) in zip(fixes, expect):
+        got = vec(row[f], "fx", "fy", "fz")
+        assert row[f]["n"] == 1, name
+        assert np.linalg.norm(got - force) < 1e-9 * np.linalg.norm(force), (name, got, force)
+        # the torque about the reference point is that of the force at the middle of the overlap
+        nn = -force / np.linalg.norm(force)
+        cp = p - (r - overlap / 2) * nn
+        torque = np.cross(cp - c, force)
+        assert np.linalg.norm(vec(row[f], "tx", "ty", "tz") - torque) < 1e-9 * np.linalg.norm(force) * 1.0, name
+        assert row[f]["e_el"] == pytest.approx(0.5 * KN * overlap ** 2, rel=1e-9), name
+
+
+def test_spheroid_distance_matches_numerical_minimisation(tmp_path):
+    """Random points around a tilted triaxial ellipsoid and a spheroid, inside and outside; each
+    node's dumped force gives the signed distance d = r - |F|/kn and the normal F/|F|."""
+    from scipy.optimize import minimize
+    rng = np.random.default_rng(7)
+    r = 0.3
+    bodies = [((0.5, 0.3, 0.15), np.array([0.0, 0.0, 0.0]), axis_angle([0.3, 1.0, -0.4], 0.9)),
+              ((0.5, 0.5, 0.15), np.array([3.0, 0.0, 0.0]), (1.0, 0.0, 0.0, 0.0))]
+    deck = header(box=6.0)
+    pts, k = [], 0
+    for j, (axes, c, q) in enumerate(bodies):
+        g = []
+        for _ in range(12):
+            u = rng.normal(size=3)
+            u /= np.linalg.norm(u)
+            local = u * np.array(axes) * rng.uniform(0.3, 1.5)      # inside and outside
+            k += 1
+            p = c + quat_rotate(q, local)
+            deck += node(k, p, r)
+            g.append(str(k))
+            pts.append((k, axes, c, q, local, p))
+        qs = " ".join(repr(float(v)) for v in q)
+        deck += (f"group s{j} id {' '.join(g)}\nfix e{j} s{j} wirenet/body spheroid {axes[0]} {axes[1]} {axes[2]} "
+                 f"centre {c[0]!r} {c[1]!r} {c[2]!r} quat {qs} kn {KN!r}\n")
+    deck += ("dump d all custom 1 forces.dump id fx fy fz\n"
+             'dump_modify d format "%d %.17g %.17g %.17g"\nrun 0\n')
+    lmp.run_deck(deck, tmp_path)
+    _, frame = lmp.dump_atom_frames(tmp_path / "forces.dump")[0]
+    for (k, axes, c, q, local, p), f in zip(pts, frame):
+        assert f[0] == k
+        force = f[1:4]
+        d_fix = r - np.linalg.norm(force) / KN
+        a = np.array(axes)
+
+        def dist2(t):
+            s = a * np.array([math.sin(t[0]) * math.cos(t[1]), math.sin(t[0]) * math.sin(t[1]), math.cos(t[0])])
+            return np.sum((local - s) ** 2)
+        starts = [(th, ph) for th in np.linspace(0.1, 3.0, 7) for ph in np.linspace(-3.0, 3.0, 9)]
+        best = min(starts, key=dist2)
+        res = minimize(dist2, best, method="Nelder-Mead", options={"xatol": 1e-14, "fatol": 1e-30, "maxiter": 20000})
+        inside = np.sum((local / a) ** 2) < 1
+        d_ref = math.sqrt(res.fun) * (-1 if inside else 1)
+        assert d_fix == pytest.approx(d_ref, abs=1e-9), (k, d_fix, d_ref)
+        t = res.x
+        s = a * np.array([math.sin(t[0]) * math.cos(t[1]), math.sin(t[0]) * math.sin(t[1]), math.cos(t[0])])
+        normal = quat_rotate(q, s / a ** 2)
+        normal /= np.linalg.norm(normal)
+        assert np.allclose(force / np.linalg.norm(force), normal, atol=1e-6), k
+
+
+# ---- friction, kinematics -------------------------------------------------------------------
+
+def test_sliding_node_reaches_coulomb_limit(tmp_path):
+    """A fixed node pressed 1 mm into a plane that slides along x: the tangential spring grows
+    as kt v t (exactly, one increment per step), then the friction force stays at mu kn overlap."""
+    r, overlap, kt, mu, v, dt = 0.01, 1e-3, 1e6, 0.3, 1.0, 1e-5
+    deck = (header(1.0) + node(1, (0.0, 0.0, r - overlap), r) +
+            f"fix p all wirenet/body plane centre 0 0 0 kn {KN!r} kt {kt!r} mu {mu!r} vel {v!r} 0 0\n"
+            f"timestep {dt!r}\n" + thermo(["p"], 1) + "run 100\n")
+    rows = rows_of(lmp.run_deck(deck, tmp_path), ["p"])
+    fn = KN * overlap
+    limit = mu * fn
+    n_slip = limit / (kt * v * dt)
+    assert 20 < n_slip < 350
+    for row in rows[1:]:
+        n = row["step"]
+        ft = -row["p"]["fx"]                  # the node is dragged along +x, the plane held back
+        assert row["p"]["fz"] == pytest.approx(-fn, rel=1e-12)
+        assert abs(row["p"]["fy"]) < 1e-12 * fn
+        expected = min(kt * v * n * dt, limit)
+        assert ft == pytest.approx(expected, rel=1e-9), n
+    assert rows[-1]["p"]["w_body"] < 0.0      # the node does negative work on the sliding plane
+    assert rows[-1]["p"]["w_nodes"] == 0.0    # the node does not move
+
+
+def test_kinematic_body_follows_its_prescribed_motion(tmp_path):
+    v = np.array([0.3, -0.1, -1.2])
+    w = np.array([0.0, 2.0, 1.0])
+    ramp, dt, n = 0.002, 1e-5, 500
+    x0 = np.array([0.1, 0.2, 0.3])
+    deck = (header(2.0) + node(1, (1.5, 1.5, 1.5), 0.01) +
+            f"fix c all wirenet/body cone 0.34 0.78 0.02 centre {x0[0]} {x0[1]} {x0[2]} axis 0 0 -1 kn 1e6 "
+            f"vel {v[0]} {v[1]} {v[2]} ramp {ramp} omega {w[0]} {w[1]} {w[2]}\n"
+            f"timestep {dt}\n" + thermo(["c"], 50) + f"run {n}\n")
+    rows = rows_of(lmp.run_deck(deck, tmp_path), ["c"])
+    for row in rows:
+        t = row["step"] * dt
+        if t < ramp:
+            x, vel = x0 + v * t * t / (2 * ramp), v * t / ramp
+        else:
+            x, vel = x0 + v * (t - ramp / 2), v
+        assert np.allclose(vec(row["c"], "x", "y", "z"), x, rtol=0, atol=1e-14), row["step"]
+        assert np.allclose(vec(row["c"], "vx", "vy", "vz"), vel, rtol=0, atol=1e-14), row["step"]
+        assert np.allclose(vec(row["c"], "wx", "wy", "wz"), w, rtol=0, atol=0)
+        q = axis_angle(w, np.linalg.norm(w) * t)
+        assert np.allclose(vec(row["c"], "qw", "qx", "qy", "qz"), q, atol=1e-13)
+    assert rows[-1]["step"] * dt > 2 * ramp
+
+
+# ---- free body ------------------------------------------------------------------------------
+
+def drop_deck(steps, gamma=0.0, mu=0.0, nodes_free=True, extra=""):
+    """A free sphere (R 0.1 m, 1 kg) falls at 1 m/s onto four node spheres (33 g each) below it."""
+    r = 0.01
+    deck = header(1.0)
+    for k, (x, y) in enumerate([(0.04, 0.0), (-0.04, 0.0), (0.0, 0.04), (0.0, -0.04)]):
+        deck += node(k + 1, (x, y, 0.0), r)
+    if nodes_free:
+        deck += "fix integ all nve/sphere\n"
+    deck += (f"fix s all wirenet/body sphere 0.1 centre 0.003 -0.002 0.1055 kn 1e5 kt 5e4 mu {mu} "
+             f"gamma_n {gamma} mass {MDROP} vel 0.05 0 -1 omega 0 1 0 gravity 0 0 -9.81 {extra}\n"
+             "compute ke all ke\ncompute kr all erotate/sphere\nvariable mn equal mass(all)\n"
+             "variable px equal v_mn*vcm(all,x)\nvariable py equal v_mn*vcm(all,y)\nvariable pz equal v_mn*vcm(all,z)\n"
+             "variable ekn equal c_ke+c_kr\n"
+             "timestep 1e-5\n" + thermo(["s"], 100, "v_px v_py v_pz v_ekn") + f"run {steps}\n")
+    return deck
+
+
+def test_free_sphere_momentum_and_energy_budget(tmp_path):
+    """Undamped and frictionless, the total energy of sphere + nodes + contact springs is
+    conserved; with viscous damping and friction, energy is lost, and in both cases the change
+    of the body's energy is the contact work on the body and that of the nodes the contact work
+    on the nodes. Momentum of body + nodes = initial + weight impulse, to round-off."""
+    M, g = MDROP, 9.81
+    for label, gamma, mu in (("elastic", 0.0, 0.0), ("dissipative", 30.0, 0.4)):
+        rows = rows_of(lmp.run_deck(drop_deck(3000, gamma, mu), tmp_path / label), ["s"])
+        first = rows[0]
+        assert max(r["s"]["n"] for r in rows) >= 3, label     # it hit several nodes
+        e0 = first["s"]["ke"] + first["s"]["pe"]
+        worst = [0.0, 0.0, 0.0]
+        for r in rows:
+            s = r["s"]
+            t = r["time"]
+            p = M * vec(s, "vx", "vy", "vz") + vec(r, "v_px", "v_py", "v_pz")
+            p0 = M * np.array([0.05, 0.0, -1.0]) + np.array([0.0, 0.0, -M * g * t])
+            assert np.allclose(p, p0, rtol=0, atol=1e-11 * M), (label, r["step"])
+            e_body = s["ke"] + s["pe"] - e0
+            scale = first["s"]["ke"]
+            worst[0] = max(worst[0], abs(e_body - s["w_body"]) / scale)
+            worst[1] = max(worst[1], abs(r["v_ekn"] - s["w_nodes"]) / scale)
+            if gamma == 0.0:
+                worst[2] = max(worst[2], abs(-(s["w_body"] + s["w_nodes"]) - s["e_el"]) / scale)
+        print(label, "energy closure", worst)
+        assert max(worst) < 1e-3, (label, worst)
+        last = rows[-1]["s"]
+        assert last["n"] == 0, label                            # the nodes flew off
+        assert np.linalg.norm(vec(rows[-1], "v_px", "v_py", "v_pz")) > 0.1 * M, label
+        lost = -(last["w_body"] + last["w_nodes"])
+        if gamma > 0.0:
+            assert lost > 0.01 * first["s"]["ke"], label
+        else:
+            assert abs(lost) < 1e-4 * first["s"]["ke"], label
+
+
+GRID_AXES = (0.2, 0.15, 0.08)
+GRID_AXIS = (0.2, 0.1, 1.0)
+
+
+def grid_deck(steps, extra_header="", restart_at=None):
+    """A tilted, spinning free spheroid with friction and damping dropped on a fixed 17 x 17 grid
+    of nodes (2.5 cm apart) centred on x = 0, where two ranks cut the box; it starts 0.5 mm
+    above the node tops and stays in contact for several hundred steps."""
+    deck = header(1.0, extra_header)
+    k = 0
+    for i in range(17):
+        for j in range(17):
+            k += 1
+            deck += node(k, (-0.2 + 0.025 * i + 0.0001, -0.2 + 0.025 * j, 0.0), 0.01)
+    q = from_z(GRID_AXIS)
+    ez_local = quat_rotate(q * np.array([1, -1, -1, -1]), np.array([0.0, 0.0, 1.0]))
+    low = math.sqrt(np.sum((np.array(GRID_AXES) * ez_local) ** 2))    # support in -z
+    zc = 0.01 + low + 0.0005
+    a = GRID_AXES
+    deck += (f"fix s all wirenet/body spheroid {a[0]} {a[1]} {a[2]} centre 0.01 -0.02 {zc!r} "
+             f"axis {GRID_AXIS[0]} {GRID_AXIS[1]} {GRID_AXIS[2]} kn 1e5 kt 3e4 "
+             "mu 0.4 gamma_n 500 mass 12 vel 0.3 0.1 -1 omega 1 -2 3 gravity 0 0 -9.81\n"
+             "dump d all custom 400 forces.*.dump id x y z fx fy fz\n"
+             'dump_modify d format "%d %.17g %.17g %.17g %.17g %.17g %.17g"\n'
+             "timestep 1e-5\n" + thermo(["s"], 50))
+    return deck + f"run {steps}\n"
+
+
+def test_one_and_two_ranks_agree(tmp_path):
+    one = rows_of(lmp.run_deck(grid_deck(800), tmp_path / "np1"), ["s"])
+    two = rows_of(lmp.run_deck(grid_deck(800, "processors 2 1 1"), tmp_path / "np2", np=2), ["s"])
+    assert len(one) == len(two) > 10
+    assert max(r["s"]["n"] for r in one) >= 6
+    for a, b in zip(one, two):
+        for key in COLUMNS:
+            x, y = a["s"][key], b["s"][key]
+            assert y == pytest.approx(x, rel=1e-9, abs=1e-9 * max(1.0, abs(x))), (a["step"], key)
+    # the contact region straddles the cut at x = 0: nodes touched on both ranks
+    _, rows = lmp.dump_atom_frames(tmp_path / "np2" / "forces.400.dump")[400]
+    touched = rows[np.abs(rows[:, 4:7]).sum(axis=1) > 0]
+    assert (touched[:, 1] < 0).any() and (touched[:, 1] > 0).any(), touched[:, :4]
+
+
+def test_restart_continues_the_trajectory(tmp_path):
+    straight = rows_of(lmp.run_deck(grid_deck(800), tmp_path / "a"), ["s"])
+    lmp.run_deck(grid_deck(400) + "write_restart half.restart\n", tmp_path / "b")
+    keep = [l for l in grid_deck(0).splitlines()
+            if not l.startswith(("units", "atom_style", "atom_modify", "boundary", "newton", "region box",
+                                 "create_box", "create_atoms", "set atom", "run "))]
+    second = "read_restart half.restart\n" + "\n".join(keep) + "\nrun 400\n"
+    cont = rows_of(lmp.run_deck(second, tmp_path / "b"), ["s"])
+    mid = [r for r in straight if r["step"] == 400][0]
+    assert mid["s"]["n"] >= 3                  # sliding contacts carry friction history across
+    a, b = straight[-1], cont[-1]
+    assert a["step"] == b["step"] == 800
+    for key in COLUMNS:
+        x, y = a["s"][key], b["s"][key]
+        assert y == pytest.approx(x, rel=1e-9, abs=1e-9 * max(1.0, abs(x))), key
+
+
+# ---- bad arguments --------------------------------------------------------------------------
+
+BAD = {
+    "unknown keyword": ("sphere 0.1 kn 1e6 spin 3", "unknown keyword 'spin'"),
+    "unknown shape": ("cube 0.1 kn 1e6", "unknown shape 'cube'"),
+    "missing kn": ("sphere 0.1", "missing 'kn K'"),
+    "negative kn": ("sphere 0.1 kn -5", "kn must be > 0 (got -5)"),
+    "nan kt": ("sphere 0.1 kn 1e6 kt nan", "kt must be a finite number (got 'nan')"),
+    "inf radius": ("sphere inf kn 1e6", "sphere parameter must be a finite number (got 'inf')"),
+    "zero radius": ("sphere 0 kn 1e6", "sphere radius must be a finite number > 0 (got 0)"),
+    "vel with 2 values": ("sphere 0.1 kn 1e6 vel 1 2", "'vel' needs 3 values"),
+    "kn without value": ("sphere 0.1 kn", "'kn' needs a value"),
+    "spheroid with 2 axes": ("spheroid 0.5 0.5 kn 1e6", "'spheroid' needs 3 semi-axes a b c (got 'kn')"),
+    "cone tip too wide": ("cone 0.3 0.7 0.3 kn 1e6", "cone tip radius must be in [0, base radius) (got 0.3)"),
+    "negative mu": ("sphere 0.1 kn 1e6 kt 1 mu -0.2", "mu must be >= 0 (got -0.2)"),
+    "friction without kt": ("sphere 0.1 kn 1e6 mu 0.2", "mu 0.2 needs a tangential stiffness 'kt' > 0"),
+    "zero axis": ("plane kn 1e6 axis 0 0 0", "axis must not be 0 0 0"),
+    "free cone": ("cone 0.3 0.7 0 kn 1e6 mass 3", "a cone cannot be a free body"),
+    "ramp on a free body": ("sphere 0.1 kn 1e6 mass 3 ramp 0.1", "'ramp' is for a kinematic body"),
+    "gravity on a kinematic body": ("sphere 0.1 kn 1e6 gravity 0 0 -9.81", "'gravity' acts on a free body only"),
+    "bad inertia": ("sphere 0.1 kn 1e6 mass 1 inertia 1 1 3 0 0 0", "violates I1 + I2 >= I3"),
+    "bad corner cut": ("truncated-cube 0.45 0.3 kn 1e6", "truncated-cube corner cut must be in (0, side/2) (got 0.3)"),
+    "missing obj": ("polyhedron nosuch.obj kn 1e6", "polyhedron: cannot open 'nosuch.obj'"),
+    "negative ramp": ("sphere 0.1 kn 1e6 vel 0 0 1 ramp -1", "ramp must be >= 0 (got -1)"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD))
+def test_bad_arguments_are_named(tmp_path, case):
+    args, phrase = BAD[case]
+    deck = header(1.0) + node(1, (0.0, 0.0, 0.0), 0.01) + f"fix b all wirenet/body {args}\nrun 0\n"
+    rc, out = lmp.run_deck_rc(deck, tmp_path)
+    check_error(rc, out, "fix wirenet/body: " + phrase)

@@ -149,6 +149,7 @@ def test_every_column(tmp_path):
 @pytest.mark.parametrize("group,bonds", [("g59", [(9, 5)]), ("g29", [(2, 9)]), ("g25", [(5, 2)])])
 def test_group_selects_bonds_with_both_nodes(tmp_path, group, bonds):
     got = run_columns(tmp_path, group)
-    assert [tuple(int(v) for v in r[:2]) for r in got] == bonds
+    ids = [tuple(int(v) for v in r[:2]) for r in got]
+    assert ids == bonds, f"compute on group {group}: rows for bonds {ids}, expected {bonds} (both nodes in the group)"
     want = expected_rows()[bonds[0]]
     np.testing.assert_allclose(got[0], want, rtol=1e-9, atol=1e-12)

@@ -228,7 +228,15 @@ void FixWirenetBody::parse(int narg, char **arg)
     shape.reset(new WireNet::EllipsoidShape(p[0], p[1], p[2]));
   } else if (kind == "cone") {
     std::vector<double> p = shape_values(3, "base radius, height and tip radius R h a");
-    shape.reset(new WireNet::ConeShape(p[0], p[1], p[2]));
+    bool round = false;
+    if (k < narg && strcmp(arg[k], "tip") == 0) {
+      if (k + 1 >= narg) throw std::invalid_argument("'tip' needs 'flat' or 'round'");
+      const std::string t = arg[k + 1];
+      if (t != "flat" && t != "round") throw std::invalid_argument("tip must be 'flat' or 'round' (got '" + t + "')");
+      round = t == "round";
+      k += 2;
+    }
+    shape.reset(new WireNet::ConeShape(p[0], p[1], p[2], round));
   } else if (kind == "plane") {
     shape.reset(new WireNet::PlaneShape());
   } else if (kind == "box") {

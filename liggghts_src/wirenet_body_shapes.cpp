@@ -233,39 +233,70 @@ void EllipsoidShape::query(const Vector3d &p, SurfacePoint &out) const
 
 // ---- cone ---------------------------------------------------------------------------------
 
-ConeShape::ConeShape(double base_radius, double height, double tip_radius) :
-  R_(base_radius), h_(height), a_(tip_radius)
+ConeShape::ConeShape(double base_radius, double height, double tip_radius, bool round_tip) :
+  R_(base_radius), h_(height), a_(tip_radius), round_(round_tip)
 {
   require_positive(base_radius, "cone base radius");
   require_positive(height, "cone height");
   if (!(tip_radius >= 0.0 && tip_radius < base_radius) || !std::isfinite(tip_radius))
     throw std::invalid_argument("cone tip radius must be in [0, base radius) (got " + num(tip_radius) + ")");
-  bound_ = std::max(R_, std::sqrt(a_ * a_ + h_ * h_));
+  if (round_ && a_ > 0.0) {
+    // flank normal n: n . (C - B) = -a with C = (0, h - a), B = (R, 0): R cos(phi) - (h - a) sin(phi) = a
+    const double hh = h_ - a_, L = std::hypot(R_, hh), psi = std::atan2(hh, R_);
+    if (!(hh > 0.0) || !(a_ < L)) throw std::invalid_argument("cone round tip radius must be < height (got " + num(a_) + ")");
+    const double phi = std::acos(a_ / L) - psi;
+    nf_ = Vector2d(std::cos(phi), std::sin(phi));
+    T_ = Vector2d(0.0, hh) + a_ * nf_;
+    if (!(T_[1] > 0.0) || !(nf_[1] > 0.0))
+      throw std::invalid_argument("cone round tip radius " + num(a_) + " too large for base radius " + num(R_) +
+                                  " and height " + num(h_) + " (the cap must meet the flank above the base)");
+  } else {
+    round_ = false;
+    nf_ = Vector2d(h_, R_ - a_).normalized();
+    T_ = Vector2d(a_, h_);
+  }
+  bound_ = std::max(R_, T_.norm());
+  bound_ = std::max(bound_, h_);
 }
 
-// In the meridian half-plane (rho, z): base (0,0)-(R,0), flank (R,0)-(a,h), tip (a,h)-(0,h).
+// In the meridian half-plane (rho, z): base (0,0)-(R,0), flank (R,0)-T, then the flat tip
+// T-(0,h) or the round cap (circle about C = (0, h - a) from T up to (0, h)).
 void ConeShape::query(const Vector3d &p, SurfacePoint &out) const
 {
   const double rho = std::hypot(p[0], p[1]);
   const Vector3d u = rho > 0.0 ? Vector3d(p[0] / rho, p[1] / rho, 0.0) : Vector3d::UnitX();
   const Vector2d q(rho, p[2]);
-  const Vector2d A(0.0, 0.0), B(R_, 0.0), C(a_, h_), D(0.0, h_);
-  Vector2d nflank(h_, R_ - a_);
-  nflank.normalize();
-  const Vector2d seg_n[3] = { Vector2d(0.0, -1.0), nflank, Vector2d(0.0, 1.0) };
-  const Vector2d from[3] = { A, B, C }, to[3] = { B, C, D };
-  const int nseg = a_ > 0.0 ? 3 : 2;
-  int best = 0;
-  Vector2d c = segment_point(from[0], to[0], q);
+  const Vector2d B(R_, 0.0);
+  // base and flank segments
+  Vector2d c = segment_point(Vector2d(0.0, 0.0), B, q), n(0.0, -1.0);
   double d2 = (q - c).squaredNorm();
-  for (int s = 1; s < nseg; s++) {
-    const Vector2d cs = segment_point(from[s], to[s], q);
+  {
+    const Vector2d cs = segment_point(B, T_, q);
     const double ds = (q - cs).squaredNorm();
-    if (ds < d2) { d2 = ds; c = cs; best = s; }
+    if (ds < d2) { d2 = ds; c = cs; n = nf_; }
   }
-  const bool inside = q[1] >= 0.0 && q[1] <= h_ && nflank.dot(q - B) <= 0.0;
+  bool inside = q[1] >= 0.0 && nf_.dot(q - B) <= 0.0;
+  if (!round_) {
+    inside = inside && q[1] <= h_;
+    if (a_ > 0.0) {
+      const Vector2d cs = segment_point(T_, Vector2d(0.0, h_), q);
+      const double ds = (q - cs).squaredNorm();
+      if (ds < d2) { d2 = ds; c = cs; n = Vector2d(0.0, 1.0); }
+    }
+  } else {
+    const Vector2d C(0.0, h_ - a_);
+    const Vector2d r = q - C;
+    const double rl = r.norm();
+    if (q[1] > T_[1]) inside = inside && rl <= a_;
+    // the cap: the arc from the direction of nf_ up to +z
+    Vector2d dir = rl > 0.0 ? Vector2d(r / rl) : Vector2d(0.0, 1.0);
+    if (dir.dot(Vector2d(1.0, 0.0)) < 0.0) dir = Vector2d(0.0, 1.0);          // behind the axis: the pole
+    else if (nf_[0] * dir[1] - nf_[1] * dir[0] < 0.0) dir = nf_;              // below the tangent point
+    const Vector2d cs = C + a_ * dir;
+    const double ds = (q - cs).squaredNorm();
+    if (ds < d2) { d2 = ds; c = cs; n = dir; }
+  }
   const double d = std::sqrt(d2);
-  Vector2d n = seg_n[best];
   if (!inside && d > 0.0) n = (q - c) / d;
   out.dist = inside ? -d : d;
   out.point = c[0] * u + Vector3d(0.0, 0.0, c[1]);

@@ -67,18 +67,25 @@ class EllipsoidShape : public BodyShape {
   int perm_[3];      // e_[k] = axes_[perm_[k]]
 };
 
-// Solid frustum of revolution about local +z: base disc of radius R at z = 0, flat tip disc of
-// radius a at z = h (a = 0: sharp apex), as wirenet-gen shape cone --tip-radius a (whose base is
-// at z = 0 and apex at z = -h: use axis 0 0 -1 to point the tip down).
+// Solid cone about local +z: base disc of radius R at z = 0, tip at z = h. Flat tip (default): a
+// disc of radius a at z = h (a = 0: sharp apex), as wirenet-gen shape cone --tip-radius a (whose
+// base is at z = 0 and apex at z = -h: use axis 0 0 -1 to point the tip down). Round tip: a
+// spherical cap of radius a, centre on the axis at z = h - a, tangent to the flank from the
+// base rim (same height h).
 class ConeShape : public BodyShape {
  public:
-  ConeShape(double base_radius, double height, double tip_radius);
+  ConeShape(double base_radius, double height, double tip_radius, bool round_tip = false);
   void query(const Eigen::Vector3d &p, SurfacePoint &out) const;
   double bounding_radius() const { return bound_; }
   bool centred() const { return false; }
   std::string name() const { return "cone"; }
+  // round tip: outward normal of the flank and tangent point, meridian (rho, z) coordinates
+  Eigen::Vector2d flank_normal() const { return nf_; }
+  Eigen::Vector2d tangent_point() const { return T_; }
  private:
   double R_, h_, a_, bound_;
+  bool round_;
+  Eigen::Vector2d nf_, T_;   // flank normal; end of the flank (tip rim or tangent point)
 };
 
 // Half-space z <= 0 of the local frame: the plane through the origin with outward normal +z.

@@ -1,7 +1,7 @@
 """fix wirenet/body: analytic rigid bodies (exact geometry, no facets) in contact with node spheres.
 
 - a node pressed a known overlap into a sphere, a spheroid, a cone flank, the cone's flat tip and
-  its rim, a plane, and a truncated cube's face, edge and vertex gets kn * overlap along the
+  its rim, a round cone tip, a plane, and a truncated cube's face, edge and vertex gets kn * overlap along the
   exact normal (closed form, 1e-9 relative);
 - the spheroid's nearest point (Eberly's bisection) against an independent numerical
   minimisation (scipy) for random points inside and outside;
@@ -130,6 +130,20 @@ def contact_cases():
     # beyond the rim of the tip disc: the nearest point is the rim, the normal bisects
     nr = np.array([1.0, 0.0, 1.0]) / math.sqrt(2)
     cases.append(("cone rim", cone, (0.0, 0.0, 1.0), down, np.array([tip, 0.0, h]), nr))
+    # round tip of radius 0.05 (same height): cap about (0, h - a), tangent to the flank from the rim
+    ar = 0.05
+    hr = h - ar
+    phi_t = math.acos(ar / math.hypot(R, hr)) - math.atan2(hr, R)
+    nt = np.array([math.cos(phi_t), math.sin(phi_t)])
+    tpt = np.array([0.0, hr]) + ar * nt
+    th = 0.5 * (phi_t + math.pi / 2)
+    dcap = np.array([math.cos(th), math.sin(th)])
+    round_cone = f"cone {R} {h} {ar} tip round"
+    cases.append(("round cap", round_cone, (0.0, 0.0, 1.0), down,
+                  (ar * dcap[0]) * u + np.array([0, 0, hr + ar * dcap[1]]), dcap[0] * u + np.array([0, 0, dcap[1]])))
+    fl = np.array([R, 0.0]) + 0.6 * (tpt - np.array([R, 0.0]))
+    cases.append(("round flank", round_cone, (0.0, 0.0, 1.0), down,
+                  fl[0] * u + np.array([0, 0, fl[1]]), nt[0] * u + np.array([0, 0, nt[1]])))
     cases.append(("plane", "plane", (0.0, 0.0, 0.1), from_z([1.0, 1.0, 1.0]), np.array([0.2, -0.1, 0.0]),
                   np.array([0.0, 0.0, 1.0])))
     # truncated cube 0.45, cut 0.15: face, edge (between two octagons), vertex
@@ -433,6 +447,7 @@ BAD = {
     "bad inertia": ("sphere 0.1 kn 1e6 mass 1 inertia 1 1 3 0 0 0", "inertia tensor violates I1 + I2 >= I3"),
     "bad corner cut": ("truncated-cube 0.45 0.3 kn 1e6", "truncated-cube corner cut must be in (0, side/2) (got 0.3)"),
     "missing obj": ("polyhedron nosuch.obj kn 1e6", "polyhedron: cannot open 'nosuch.obj'"),
+    "bad cone tip": ("cone 0.3 0.7 0.02 tip pointy kn 1e6", "tip must be 'flat' or 'round' (got 'pointy')"),
     "negative ramp": ("sphere 0.1 kn 1e6 vel 0 0 1 ramp -1", "ramp must be >= 0 (got -1)"),
 }
 

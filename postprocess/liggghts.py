@@ -2,8 +2,10 @@
 
 import os
 import re
+import signal
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -31,12 +33,43 @@ def mpi_env():
 
 
 def generate(kind, out_prefix, *options):
-    """Run wirenet-gen KIND OPTIONS --out PREFIX; return PREFIX.data."""
-    cmd = [str(binary("wirenet-gen")), *kind.split(), *map(str, options), "--out", str(out_prefix)]
+    """Run wirenet-gen KIND OPTIONS --out PREFIX; return the absolute path of PREFIX.data (it is
+    handed to LIGGGHTS, which runs in another folder)."""
+    out_prefix = os.path.abspath(out_prefix)
+    cmd = [str(binary("wirenet-gen")), *kind.split(), *map(str, options), "--out", out_prefix]
     p = subprocess.run(cmd, capture_output=True, text=True)
     if p.returncode:
         raise PostprocessError(f"wirenet-gen failed: {p.stderr.strip()}")
     return f"{out_prefix}.data"
+
+
+# LIGGGHTS processes (or their mpirun) that are running now, each the leader of its own process
+# group, so that an interrupted study can stop them with all their ranks (stop_all).
+_LIVE = set()
+_LIVE_LOCK = threading.Lock()
+
+
+def stop_all(grace=5.0):
+    """SIGTERM to every running LIGGGHTS process group, SIGKILL to those still alive after
+    ``grace`` seconds."""
+    with _LIVE_LOCK:
+        procs = list(_LIVE)
+    for proc in procs:
+        _signal_group(proc, signal.SIGTERM)
+    deadline = time.time() + grace
+    for proc in procs:
+        try:
+            proc.wait(timeout=max(deadline - time.time(), 0.1))
+        except subprocess.TimeoutExpired:
+            _signal_group(proc, signal.SIGKILL)
+            proc.wait()
+
+
+def _signal_group(proc, sig):
+    try:
+        os.killpg(proc.pid, sig)
+    except ProcessLookupError:
+        pass
 
 
 _NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
@@ -48,20 +81,43 @@ def run(deck, workdir, variables=None, np=1, total_steps=None, label="", dt=None
     time, ETA) on long runs; raise with LIGGGHTS' ERROR line on failure. With phase_marker, the
     steps before the log line holding it are a preparation phase of unknown length (reported
     without ETA); total_steps and the ETA count from that line on."""
-    workdir = Path(workdir)
+    workdir = Path(workdir).resolve()
     workdir.mkdir(parents=True, exist_ok=True)
+    deck = Path(deck).resolve()
     # never "-screen none": LIGGGHTS 3.8's STL reader (input_mesh_tri.cpp) prints to the
     # screen without checking it, so any deck with a mesh would crash
     cmd = [str(binary("liggghts")), "-in", str(deck), "-log", "log.lammps", "-echo", "none",
            "-screen", "screen.txt"]
-    for name, value in (variables or {}).items():
+    # the decks include their shared parts from ${inc} (inputs/include)
+    variables = {"inc": str(INPUTS / "include"), **(variables or {})}
+    for name, value in variables.items():
         cmd += ["-var", name, str(value)]
     if np > 1:
         cmd = ["mpirun", "-np", str(np)] + cmd
     start = time.time()
+    # own process group: a signal to the study reaches LIGGGHTS only through stop_all, which
+    # also reaches every rank under mpirun
     proc = subprocess.Popen(cmd, cwd=workdir, env=mpi_env(), stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True)
-    last = start
+                            stderr=subprocess.STDOUT, text=True, start_new_session=True)
+    with _LIVE_LOCK:
+        _LIVE.add(proc)
+    try:
+        output = _follow(proc, workdir, total_steps, label, dt, phase_marker)
+    finally:
+        with _LIVE_LOCK:
+            _LIVE.discard(proc)
+    log = (workdir / "log.lammps").read_text(errors="replace") if (workdir / "log.lammps").exists() else ""
+    errors = [l for l in (log + output).splitlines() if "ERROR" in l]
+    if proc.returncode or errors:
+        msg = errors[0] if errors else (output.strip().splitlines() or ["no output"])[-1]
+        raise PostprocessError(f"LIGGGHTS failed in {workdir}: {msg}")
+    return time.time() - start
+
+
+def _follow(proc, workdir, total_steps, label, dt, phase_marker):
+    """Wait for the process, printing progress lines; return its output. The output goes to a
+    pipe read only at the end, so LIGGGHTS must keep it short (-screen screen.txt)."""
+    last = time.time()
     progress = Progress(workdir / "log.lammps", total_steps, label, dt, phase_marker) \
         if total_steps else None
     while proc.poll() is None:
@@ -69,13 +125,7 @@ def run(deck, workdir, variables=None, np=1, total_steps=None, label="", dt=None
         if progress and time.time() - last > 5:
             last = time.time()
             progress.report()
-    output = proc.stdout.read()
-    log = (workdir / "log.lammps").read_text(errors="replace") if (workdir / "log.lammps").exists() else ""
-    errors = [l for l in (log + output).splitlines() if "ERROR" in l]
-    if proc.returncode or errors:
-        msg = errors[0] if errors else (output.strip().splitlines() or ["no output"])[-1]
-        raise PostprocessError(f"LIGGGHTS failed in {workdir}: {msg}")
-    return time.time() - start
+    return proc.stdout.read()
 
 
 class Progress:

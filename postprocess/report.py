@@ -10,7 +10,7 @@ import os
 import numpy as np
 
 from . import study
-from .output import write_text
+from .output import Outputs, json_text
 
 DEFAULT_EXPECTED = ("punch_hex", "punch_compound", "impact_hex", "impact_square",
                     "impact_compound")
@@ -54,9 +54,17 @@ def zone_peaks(case):
     return result
 
 
+def case_mode(case):
+    """'quick' or 'full' as case.json records it ('unknown' for folders without it)."""
+    if "quick" not in case.meta:
+        return "unknown"
+    return "quick" if case.meta["quick"] is True else "full"
+
+
 def case_summary(case):
     """The numbers of one case (None where the file or the value is absent)."""
-    summary = {"kind": case.kind, "status": case.status, "errors": list(case.errors),
+    summary = {"kind": case.kind, "status": case.status, "mode": case_mode(case),
+               "errors": list(case.errors),
                "files": sorted(study.TABLES[k][0] for k in case.tables)}
     if case.status == "not-implemented":
         return summary
@@ -177,7 +185,8 @@ def claim_dt_sw(number, cases, summaries, key, stronger, weaker):
             notes.append(f"{name}: not evaluated (no {stronger}/{weaker} forces)")
             continue
         evidence.append({"case": name, stronger: a, weaker: b, "holds": bool(a > b)})
-    return _claim(number, evidence, notes, any(_usable(cases, n) for n in HEX_CASES))
+    quick = any(summaries[e["case"]]["mode"] == "quick" for e in evidence)
+    return _claim(number, evidence, notes, any(_usable(cases, n) for n in HEX_CASES), quick)
 
 
 def claim_rope(cases, summaries):
@@ -198,13 +207,20 @@ def claim_rope(cases, summaries):
                 "square_peak_max": square["peak_max_tension"],
                 "compound_peak_max": compound["peak_max_tension"],
                 "holds": bool(compound["peak_total_tension"] < square["peak_total_tension"])})
-    return _claim(3, evidence, notes, not missing)
+    quick = bool(evidence) and any(summaries[n]["mode"] == "quick"
+                                   for n in ("impact_square", "impact_compound"))
+    return _claim(3, evidence, notes, not missing, quick)
 
 
-def _claim(number, evidence, notes, present):
-    """``present``: some needed case exists and is usable (but may lack the family data)."""
+QUICK_NOTE = " (from --quick cases: small panels, not the paper's)"
+
+
+def _claim(number, evidence, notes, present, quick=False):
+    """``present``: some needed case exists and is usable (but may lack the family data);
+    ``quick``: some of the evidence comes from --quick cases, and the verdict says so."""
     if evidence:
         verdict, supported = _verdict([e["holds"] for e in evidence])
+        verdict += QUICK_NOTE if quick else ""
     else:
         verdict = "not evaluated (no data)" if present else NOT_EVALUATED
         supported = None
@@ -289,9 +305,10 @@ def _case_rows(summaries):
         status = s["status"] + (" (unreadable: " + "; ".join(s["errors"]) + ")"
                                 if s["errors"] else "")
         if s["status"] == "not-implemented":
-            yield [name, s["kind"], "not implemented"] + ["n/a"] * 5
+            yield [name, s["kind"], s["mode"], "not implemented"] + ["n/a"] * 5
             continue
-        yield [name, s["kind"], status, fmt(s["peak_platter_force"]), fmt(s["peak_block_force"]),
+        yield [name, s["kind"], s["mode"], status, fmt(s["peak_platter_force"]),
+               fmt(s["peak_block_force"]),
                fmt_rupture(s["first_rupture"]), fmt(s["edge_force_peak"]),
                fmt(s["wall_time"])]
 
@@ -326,8 +343,10 @@ def markdown(directory, summaries, claims, missing, figures):
     lines = ["# WireNet study report", "", f"Study directory: `{os.path.abspath(directory)}`", "",
              "## Cases", "", "Peak forces are the largest |force| of platter.csv / block.csv; "
              "first rupture, edge-force peak and wall time come from case.json (n/a: not "
-             "recorded).", ""]
-    lines += _table(["case", "kind", "status", "peak platter force [N]", "peak block force [N]",
+             "recorded). Mode: `full` is the paper's case, `quick` the small, short version of "
+             "`--quick`; a verdict drawn from quick cases says so.", ""]
+    lines += _table(["case", "kind", "mode", "status", "peak platter force [N]",
+                     "peak block force [N]",
                      "first rupture", "edge-force peak [N]", "wall time [s]"],
                     list(_case_rows(summaries)))
     lines += ["", "## Tension in the central zone (zone_forces.csv)", ""]
@@ -395,24 +414,28 @@ def markdown(directory, summaries, claims, missing, figures):
 
 
 def build(directory, expected=None, figures=True):
-    """Write DIR/report.md and DIR/summary.json; return the summary dict."""
+    """Write DIR/report.md, DIR/summary.json and the figures, all or none; return the summary."""
     cases = study.discover(directory)
     summaries = {name: case_summary(case) for name, case in cases.items()}
     claims = evaluate_claims(cases, summaries)
     missing = missing_cases(cases, expected)
-    written = {}
-    if figures:
-        from .plots import study_figures
-        written = study_figures(directory, cases)
-    summary = {"generator": "postprocess report", "cases": summaries, "missing": missing,
-               "not_implemented": [n for n, s in summaries.items()
-                                   if s["status"] == "not-implemented"],
-               "claims": claims, "impact_peaks": impact_peak_rows(summaries),
-               "figures": {k: [os.path.relpath(p, directory) for p in v]
-                           for k, v in written.items()}}
-    write_text(os.path.join(directory, "summary.json"), json.dumps(summary, indent=2) + "\n")
-    write_text(os.path.join(directory, "report.md"),
-               markdown(directory, summaries, claims, missing, written))
+    with Outputs() as outputs:
+        written = {}
+        if figures:
+            from .plots import study_figures
+            written = study_figures(directory, cases, outputs)
+        summary = {"generator": "postprocess report", "cases": summaries, "missing": missing,
+                   "not_implemented": [n for n, s in summaries.items()
+                                       if s["status"] == "not-implemented"],
+                   "claims": claims, "impact_peaks": impact_peak_rows(summaries),
+                   "figures": {k: [os.path.relpath(p, directory) for p in v]
+                               for k, v in written.items()}}
+        with open(outputs.file(os.path.join(directory, "summary.json")), "w",
+                  encoding="utf-8") as handle:
+            handle.write(json_text(summary))
+        with open(outputs.file(os.path.join(directory, "report.md")), "w",
+                  encoding="utf-8") as handle:
+            handle.write(markdown(directory, summaries, claims, missing, written))
     return summary
 
 

@@ -4,16 +4,21 @@ A case writes DIR/CASE/case.json (status, wall time, case facts) next to its CSV
 case.json says "ok" and whose CSVs exist is skipped, so an interrupted study resumes.
 """
 
+import fcntl
 import json
 import math
 import os
+import shutil
+import signal
+import sys
 import time
 from dataclasses import dataclass
 
 import numpy as np
 
 from . import impact, liggghts, punch, report
-from .output import write_text
+from .model import PAPER_BENDING
+from .output import write_json, write_text
 
 # ---------------------------------------------------------------------------------------------
 # Cantilever check (paper, Fig. 1): 2 m, d = 1 cm, E = 10 GPa, nu = 0.288, tip load.
@@ -94,13 +99,14 @@ def calibration_runner(fraction):
 
 def punch_runner(panel):
     def run_punch_case(case_dir, quick=False, np_=1):
-        return punch.run_case(case_dir, panel, "spheroid", bending=0.05, quick=quick, np_=np_)
+        return punch.run_case(case_dir, panel, "spheroid", bending=PAPER_BENDING, quick=quick,
+                              np_=np_)
     return run_punch_case
 
 
 def impact_runner(panel):
     def run_impact_case(case_dir, quick=False, np_=1):
-        return impact.run_case(case_dir, panel, bending=0.05, quick=quick, np_=np_)
+        return impact.run_case(case_dir, panel, bending=PAPER_BENDING, quick=quick, np_=np_)
     return run_impact_case
 
 
@@ -125,46 +131,159 @@ CSV_OF_KIND = {"beam": "beam.csv", "calibration": "platter.csv", "punch": "platt
                "impact": "block.csv"}
 
 
-def _complete(case_dir, kind):
-    meta = os.path.join(case_dir, "case.json")
-    if not (os.path.isfile(meta) and os.path.isfile(os.path.join(case_dir, CSV_OF_KIND[kind]))):
-        return False
-    with open(meta) as fh:
-        return json.load(fh).get("status") == "ok"
+def _read_meta(case_dir):
+    """case.json of a case folder as a dict, or None when absent or unreadable."""
+    try:
+        with open(os.path.join(case_dir, "case.json"), encoding="utf-8") as fh:
+            meta = json.load(fh)
+    except (OSError, ValueError):
+        return None
+    return meta if isinstance(meta, dict) else None
+
+
+def _complete(case_dir, kind, quick):
+    """Finished in the requested mode: status ok, the kind's CSV present, and the same --quick
+    setting (a quick result never stands for a full case, nor the other way round)."""
+    meta = _read_meta(case_dir)
+    return (meta is not None and meta.get("status") == "ok" and
+            bool(meta.get("quick")) == bool(quick) and
+            os.path.isfile(os.path.join(case_dir, CSV_OF_KIND[kind])))
 
 
 def _write_meta(case_dir, meta):
-    write_text(os.path.join(case_dir, "case.json"), json.dumps(meta, indent=2) + "\n")
+    write_json(os.path.join(case_dir, "case.json"), meta)
 
 
-def run(args):
-    """The ``study`` subcommand behind ``./wirenet run``."""
-    target = args.study
+def _fresh_case_dir(case_dir):
+    """Empty the folder of a case that is to be (re)run. Only a folder WireNet wrote (it holds a
+    case.json) or an empty one is touched; anything else is the user's and stops the run."""
+    if os.path.isdir(case_dir) and os.listdir(case_dir):
+        if not os.path.isfile(os.path.join(case_dir, "case.json")):
+            raise StudyError(f"{case_dir} exists and is not a WireNet case folder (no case.json); "
+                             "move it away or choose another --out")
+        shutil.rmtree(case_dir)
+    os.makedirs(case_dir, exist_ok=True)
+
+
+class StudyError(Exception):
+    """A one-line user error of ``./wirenet run`` (exit code 2)."""
+
+
+class Interrupted(BaseException):
+    """SIGINT or SIGTERM during a study; BaseException so that no ``except Exception`` of a
+    runner swallows it."""
+
+    def __init__(self, signum):
+        super().__init__(signum)
+        self.signum = signum
+        self.name = signal.Signals(signum).name
+
+
+def _raise_interrupt(signum, frame):
+    raise Interrupted(signum)
+
+
+class FolderLock:
+    """An exclusive lock on an output folder (flock on DIR/.wirenet.lock, released by the kernel
+    when the process ends, however it ends), so two runs never write the same cases."""
+
+    def __init__(self, folder):
+        self.path = os.path.join(folder, ".wirenet.lock")
+        self.handle = None
+
+    def __enter__(self):
+        self.handle = open(self.path, "a+", encoding="utf-8")
+        try:
+            fcntl.flock(self.handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            self.handle.seek(0)
+            holder = self.handle.read().strip() or "another process"
+            self.handle.close()
+            raise StudyError(f"{os.path.dirname(self.path)} is in use by another run "
+                             f"({holder}); wait for it or choose another --out") from None
+        self.handle.seek(0)
+        self.handle.truncate()
+        self.handle.write(f"pid {os.getpid()}\n")
+        self.handle.flush()
+        return self
+
+    def __exit__(self, *exc):
+        self.handle.close()
+        return False
+
+
+def _targets(target):
     if target in STUDIES:
-        names = STUDIES[target]
-    elif target in CASES:
-        names = [target]
-    else:
-        known = ", ".join(list(STUDIES) + list(CASES))
-        raise SystemExit(f"wirenet run: error: unknown study or case '{target}' (known: {known})")
-    out = args.out or os.path.join("out", target)
-    os.makedirs(out, exist_ok=True)
+        return STUDIES[target]
+    if target in CASES:
+        return [target]
+    known = ", ".join(list(STUDIES) + list(CASES))
+    raise StudyError(f"unknown study or case '{target}' (known: {known})")
+
+
+MAX_RANKS = 4096
+
+
+def _check_np(np_):
+    if not 1 <= np_ <= MAX_RANKS:
+        raise StudyError(f"--np must be an integer from 1 to {MAX_RANKS} (got {np_})")
+
+
+def run_cases(names, out, quick, np_):
+    """Run the cases not yet complete in this mode; the folder lock is held by the caller."""
     for k, name in enumerate(names, 1):
         kind, runner = CASES[name]
         case_dir = os.path.join(out, name)
-        os.makedirs(case_dir, exist_ok=True)
         prefix = f"[case {k}/{len(names)}] {name}"
-        if _complete(case_dir, kind):
+        if _complete(case_dir, kind, quick):
             print(f"{prefix}: complete, skipped (delete {case_dir} to run it again)", flush=True)
             continue
-        print(f"{prefix}: running", flush=True)
+        _fresh_case_dir(case_dir)
+        mode = "quick" if quick else "full"
+        # 'running' until the runner returns: an interrupted or failed case is never 'ok'
+        _write_meta(case_dir, dict(status="running", kind=kind, quick=quick, mode=mode, np=np_))
+        print(f"{prefix}: running ({mode})", flush=True)
         start = time.time()
-        facts = runner(case_dir, quick=args.quick, np_=args.np)
+        try:
+            facts = runner(case_dir, quick=quick, np_=np_)
+        except Interrupted:
+            _write_meta(case_dir, dict(status="interrupted", kind=kind, quick=quick, mode=mode,
+                                       np=np_))
+            raise
+        except Exception as exc:
+            _write_meta(case_dir, dict(status="failed", kind=kind, quick=quick, mode=mode, np=np_,
+                                       error=str(exc)))
+            raise
         wall = time.time() - start
-        _write_meta(case_dir, dict(status="ok", kind=kind, wall_time=wall, np=args.np,
-                                   quick=args.quick, **facts))
+        _write_meta(case_dir, dict(status="ok", kind=kind, wall_time=wall, np=np_, quick=quick,
+                                   mode=mode, **facts))
         print(f"{prefix}: done in {wall:.1f} s", flush=True)
-    summary = report.build(out, expected=names)
-    for claim in summary["claims"]:
-        print(f"claim {claim['id']}: {claim['verdict']}")
-    print(f"report: {os.path.join(out, 'report.md')}")
+
+
+def run(args):
+    """The ``study`` subcommand behind ``./wirenet run``. Paths are made absolute at once:
+    LIGGGHTS runs inside each case folder, where a relative path would point elsewhere."""
+    previous = {s: signal.signal(s, _raise_interrupt) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        _check_np(args.np)
+        names = _targets(args.study)
+        out = os.path.abspath(args.out or os.path.join("out", args.study))
+        os.makedirs(out, exist_ok=True)
+        start = time.time()
+        with FolderLock(out):
+            run_cases(names, out, args.quick, args.np)
+            summary = report.build(out, expected=names)
+        for claim in summary["claims"]:
+            print(f"claim {claim['id']}: {claim['verdict']}")
+        print(f"report: {os.path.join(out, 'report.md')} (wall time {time.time() - start:.0f} s)")
+    except Interrupted as exc:
+        liggghts.stop_all()
+        print(f"wirenet run: interrupted ({exc.name}); the unfinished case is redone on the next "
+              "run", file=sys.stderr, flush=True)
+        sys.exit(128 + exc.signum)
+    except StudyError as exc:
+        print(f"wirenet run: error: {exc}", file=sys.stderr, flush=True)
+        sys.exit(2)
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)

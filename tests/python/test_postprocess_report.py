@@ -8,6 +8,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from postprocess.__main__ import main  # noqa: E402
+from postprocess import report as report_module  # noqa: E402
 
 FIGURES = ("fig1_beam", "fig2_calibration", "fig3_punch", "fig5_impact_hex",
            "fig6_impact_square")
@@ -114,8 +115,8 @@ def test_full_report_with_figures(tmp_path):
         "peak_max_tension": 9e3, "time_of_peak_max": 0.1, "displacement_of_peak_max": 0.01}
     assert summary["cases"]["beam"]["beam_max_nrmse"] == 0.02
     assert summary["cases"]["calib_0.05"]["kind"] == "calibration"
-    assert "| impact_hex | impact | ok | n/a | 7.5e+05 | 0.031 s | 2.5e+05 | 12.5 |" in text
-    assert ("| punch_hex | punch | ok | 3e+05 | n/a | 0.3 m, 2.5e+05 N, DT bond 17-18 | n/a "
+    assert "| impact_hex | impact | unknown | ok | n/a | 7.5e+05 | 0.031 s | 2.5e+05 | 12.5 |" in text
+    assert ("| punch_hex | punch | unknown | ok | 3e+05 | n/a | 0.3 m, 2.5e+05 N, DT bond 17-18 | n/a "
             "| 900 |") in text
     assert "| impact_square | rope | 5e+05 | 0.1 s | 1e+04 | 0.1 s |" in text
     assert ("| punch_hex | 4 | 0.43 % | 0.123 | 0.053 % | 0.079 % (0.51 %) | 0.12 | 0 | True |"
@@ -185,7 +186,7 @@ def test_not_implemented_case(tmp_path):
                                              "not-implemented)"]
     assert summary["not_implemented"] == ["impact_square"]
     assert "- impact_square: not implemented" in text
-    assert "| impact_square | impact | not implemented |" in text
+    assert "| impact_square | impact | unknown | not implemented |" in text
 
 
 def test_unreadable_case_is_reported_not_used(tmp_path):
@@ -251,3 +252,18 @@ def test_first_rupture_marker_position():
     assert first_rupture_at(0.031, "time") == 0.031          # impact: a time
     assert first_rupture_at(0.031, "displacement") is None
     assert first_rupture_at(None, "time") is None
+
+
+def test_quick_cases_are_named_in_the_table_and_the_verdicts(tmp_path):
+    """A verdict drawn from --quick cases says so; the table names each case's mode."""
+    root = make_study(tmp_path)
+    (root / "impact_square" / "case.json").write_text(json.dumps({"status": "ok", "quick": True}))
+    (root / "impact_hex" / "case.json").write_text(json.dumps({"status": "ok", "quick": False}))
+    summary, text = report(root)
+    assert summary["cases"]["impact_square"]["mode"] == "quick"
+    assert summary["cases"]["impact_hex"]["mode"] == "full"
+    assert "| impact_square | impact | quick | ok |" in text
+    assert "| impact_hex | impact | full | ok |" in text
+    assert summary["claims"][2]["verdict"] == "supported" + report_module.QUICK_NOTE
+    # claims 1 and 2 rest on the hex cases, none of them quick
+    assert [c["verdict"] for c in summary["claims"][:2]] == ["supported", "supported"]

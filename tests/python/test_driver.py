@@ -1,0 +1,175 @@
+"""The ./wirenet driver as a user types it: the README's commands from the repository root with
+the default output folder, a relative --out from another folder, exit codes of bad commands,
+interrupts (no orphaned LIGGGHTS, the case redone), a second run into a busy folder, quick vs
+full results, and file modes under umask 022."""
+
+import fcntl
+import json
+import os
+import shutil
+import signal
+import stat
+import subprocess
+import time
+
+import pytest
+
+import lmp
+
+DRIVER = lmp.ROOT / "wirenet"
+
+
+def driver(*args, cwd=lmp.ROOT, timeout=600, umask=None):
+    env = dict(os.environ, WIRENET_BUILD=str(lmp.BUILD))
+
+    def preexec():
+        if umask is not None:
+            os.umask(umask)
+    return subprocess.run([str(DRIVER), *args], cwd=cwd, env=env, capture_output=True, text=True,
+                          timeout=timeout, preexec_fn=preexec)
+
+
+def untracked():
+    """Files git sees as new or changed (empty when the tree is not a git checkout)."""
+    if not (lmp.ROOT / ".git").exists():
+        return set()
+    p = subprocess.run(["git", "status", "--porcelain", "--untracked-files=all"], cwd=lmp.ROOT,
+                       capture_output=True, text=True)
+    return set(p.stdout.splitlines()) if p.returncode == 0 else set()
+
+
+@pytest.fixture
+def default_out():
+    """out/beam of the repository, moved aside while the test runs (a user's results stay)."""
+    out = lmp.ROOT / "out" / "beam"
+    saved = lmp.ROOT / "out" / ".beam.saved-by-test"
+    if out.exists():
+        shutil.rmtree(saved, ignore_errors=True)
+        out.rename(saved)
+    yield out
+    shutil.rmtree(out, ignore_errors=True)
+    if saved.exists():
+        saved.rename(out)
+
+
+def test_readme_command_from_the_repository_root(default_out):
+    """`./wirenet run beam --quick` exactly as typed: default output folder out/beam, a report,
+    and nothing new in the source tree outside out/ (no stray log.liggghts)."""
+    before = untracked()
+    p = driver("run", "beam", "--quick")
+    assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]
+    assert (default_out / "report.md").is_file()
+    meta = json.loads((default_out / "beam" / "case.json").read_text())
+    assert meta["status"] == "ok" and meta["mode"] == "quick"
+    stray = {line for line in untracked() - before if not line[3:].startswith("out/")}
+    assert not stray, f"the run left files in the source tree: {stray}"
+
+
+def test_relative_out_from_another_folder(tmp_path):
+    p = driver("run", "beam", "--quick", "--out", "rel/study", cwd=tmp_path)
+    assert p.returncode == 0, p.stderr[-2000:]
+    assert (tmp_path / "rel" / "study" / "report.md").is_file()
+    assert (tmp_path / "rel" / "study" / "beam" / "beam.csv").is_file()
+
+
+@pytest.mark.parametrize("args, phrase", [
+    (("run", "beam", "--np", "0"), "--np must be an integer from 1"),
+    (("run", "beam", "--np", "-1"), "--np must be an integer from 1"),
+    (("run", "no_such_case"), "unknown study or case 'no_such_case'"),
+    (("frobnicate",), "unknown command 'frobnicate'"),
+])
+def test_bad_commands_exit_2_with_one_line(tmp_path, args, phrase):
+    if args[0] == "run":
+        args += ("--out", str(tmp_path / "o"))
+    p = driver(*args, cwd=tmp_path)
+    assert p.returncode == 2, (p.returncode, p.stderr)
+    errors = [l for l in p.stderr.splitlines() if "error" in l]
+    assert len(errors) == 1 and phrase in errors[0], p.stderr
+    assert "Traceback" not in p.stderr
+    assert not (tmp_path / "o").exists() or not any((tmp_path / "o").iterdir())
+
+
+def test_busy_output_folder_is_refused(tmp_path):
+    """A second run into a folder that a run holds stops at once with one line."""
+    out = tmp_path / "busy"
+    out.mkdir()
+    with open(out / ".wirenet.lock", "a+") as held:
+        fcntl.flock(held, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        held.write("pid 12345\n")
+        held.flush()
+        p = driver("run", "beam", "--quick", "--out", str(out))
+    assert p.returncode == 2, p.stderr
+    assert "is in use by another run (pid 12345)" in p.stderr
+    assert not (out / "beam").exists()
+
+
+def test_quick_result_never_stands_for_a_full_case(tmp_path):
+    out = tmp_path / "s"
+    assert driver("run", "beam", "--quick", "--out", str(out)).returncode == 0
+    p = driver("run", "beam", "--quick", "--out", str(out))
+    assert "complete, skipped" in p.stdout
+    p = driver("run", "beam", "--out", str(out))
+    assert p.returncode == 0, p.stderr[-2000:]
+    assert "complete, skipped" not in p.stdout and "running (full)" in p.stdout
+    meta = json.loads((out / "beam" / "case.json").read_text())
+    assert meta["quick"] is False and meta["mode"] == "full"
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["cases"]["beam"]["mode"] == "full"
+    assert "| beam | beam | full |" in (out / "report.md").read_text()
+
+
+def test_outputs_honour_the_umask(tmp_path):
+    out = tmp_path / "modes"
+    p = driver("run", "beam", "--quick", "--out", str(out), umask=0o022)
+    assert p.returncode == 0, p.stderr[-2000:]
+    wrong = []
+    for path in [out, *out.rglob("*")]:
+        mode = stat.S_IMODE(path.stat().st_mode)
+        want = 0o755 if path.is_dir() else 0o644
+        if mode != want and not (path.is_file() and mode == 0o755):
+            wrong.append(f"{path.relative_to(out)}: {oct(mode)}")
+    assert not wrong, wrong
+
+
+def _liggghts_in(folder):
+    """PIDs of processes whose working folder lies in ``folder``."""
+    pids = []
+    for pid in filter(str.isdigit, os.listdir("/proc")):
+        try:
+            cwd = os.readlink(f"/proc/{pid}/cwd")
+        except OSError:
+            continue
+        if cwd.startswith(str(folder)):
+            pids.append(int(pid))
+    return pids
+
+
+@pytest.mark.parametrize("sig, code", [(signal.SIGTERM, 143), (signal.SIGINT, 130)])
+def test_interrupt_stops_liggghts_and_the_case_is_redone(tmp_path, sig, code):
+    out = tmp_path / "int"
+    env = dict(os.environ, WIRENET_BUILD=str(lmp.BUILD))
+    proc = subprocess.Popen([str(DRIVER), "run", "impact_compound", "--quick", "--out", str(out)],
+                            cwd=tmp_path, env=env, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    case = out / "impact_compound"
+    deadline = time.time() + 300
+    while time.time() < deadline and not _liggghts_in(case):
+        assert proc.poll() is None, proc.communicate()
+        time.sleep(0.2)
+    assert _liggghts_in(case), "LIGGGHTS never started"
+    time.sleep(1.0)
+    proc.send_signal(sig)
+    stdout, stderr = proc.communicate(timeout=60)
+    assert proc.returncode == code, (proc.returncode, stderr)
+    lines = [l for l in stderr.splitlines() if l.strip()]
+    assert lines and "interrupted" in lines[-1], stderr
+    assert "Traceback" not in stderr
+    time.sleep(0.5)
+    assert not _liggghts_in(case), "LIGGGHTS processes outlived the interrupted study"
+    meta = json.loads((case / "case.json").read_text())
+    assert meta["status"] == "interrupted"
+    if sig == signal.SIGTERM:   # the next run redoes the case (once is enough)
+        p = driver("run", "impact_compound", "--quick", "--out", str(out))
+        assert p.returncode == 0, p.stderr[-2000:]
+        assert "complete, skipped" not in p.stdout
+        assert json.loads((case / "case.json").read_text())["status"] == "ok"

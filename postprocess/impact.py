@@ -28,6 +28,7 @@ from .csvio import read_csv, write_csv
 from .datafile import read_data
 from .errors import PostprocessError
 from .meta import PanelInfo, read_json
+from .model import PAPER_BENDING
 
 BLOCK = dict(side=0.45, mass=44.5, speed=10.0)
 ALPHA = 0.5            # local damping on the net nodes (paper, dynamic runs)
@@ -51,8 +52,9 @@ def _panel_options(kind, quick):
 class Setup:
     """Panel and block files plus every number the deck needs."""
 
-    def __init__(self, workdir, panel, bending=0.05, quick=False, duration=None, relax=None,
-                 mass=BLOCK["mass"], side=BLOCK["side"], speed=BLOCK["speed"], alpha=ALPHA):
+    def __init__(self, workdir, panel, bending=PAPER_BENDING, quick=False, duration=None, relax=None,
+                 mass=BLOCK["mass"], side=BLOCK["side"], speed=BLOCK["speed"], alpha=ALPHA,
+                 procs=None):
         if not (mass > 0 and side > 0 and speed > 0):
             raise PostprocessError(f"impact: mass, side and speed must be > 0 (got {mass}, "
                                    f"{side}, {speed})")
@@ -61,6 +63,7 @@ class Setup:
         os.makedirs(workdir, exist_ok=True)
         self.panel, self.bending, self.quick = panel, bending, quick
         self.mass, self.side, self.speed, self.alpha = mass, side, speed, alpha
+        self.procs = procs      # MPI processor grid "PX PY PZ" (None: LIGGGHTS chooses)
         options = _panel_options(panel, quick)
         prefix = os.path.join(workdir, "panel")
         self.data_path = liggghts.generate(options[0], prefix, *options[1:])
@@ -94,15 +97,12 @@ class Setup:
                  iyz=repr(inertia[1, 2]), block_half=repr(lowest), gap=GAP,
                  foot_r=repr(0.9 * self.side), v0=repr(self.speed), centre_x=repr(centre[0]),
                  centre_y=repr(centre[1]), half_w=half["width"] / 2, half_h=half["height"] / 2,
-                 node_r=repr(self.node_r), layers=self.layers,
-                 curve=" ".join(f"{e!r} {s!r}" for e, s in punch.SW_CURVE),
-                 bending=self.bending, alpha=self.alpha, alpha_relax=ALPHA_RELAX, g=G,
+                 node_r=repr(self.node_r), layers=self.layers, bending=self.bending, alpha=self.alpha, alpha_relax=ALPHA_RELAX, g=G,
                  dt=repr(self.dt), relax_steps=self.relax_steps, steps=self.steps,
                  every=self.every, dump_every=self.dump_every,
                  zone_r=repr(ZONE_RADIUS + 0.2), out=".")
-        v.update(punch.WIRE)
-        v.update(punch.ROPE)
-        v.update(punch.CONTACT)
+        if self.procs:
+            v["procs"] = self.procs
         return v
 
 
@@ -259,7 +259,7 @@ def write_outputs(setup, case_dir, workdir, table):
         families=sorted(set(panel.families.values())))
 
 
-def run_case(case_dir, panel, bending=0.05, quick=False, np_=1, **setup_options):
+def run_case(case_dir, panel, bending=PAPER_BENDING, quick=False, np_=1, **setup_options):
     """One impact case; returns the facts for case.json."""
     setup = Setup(os.path.join(case_dir, "setup"), panel, bending, quick, **setup_options)
     workdir = os.path.join(case_dir, "run")

@@ -40,17 +40,15 @@ import time
 import numpy as np
 
 from . import liggghts, zone
+from .model import CONTACT, PAPER_BENDING, ROPE, SW_CURVE, WIRE
 from .csvio import read_csv, write_csv
 from .datafile import read_data
 from .errors import PostprocessError
 from .meta import PanelInfo, read_json
 
-# SW stress-strain table (strain, Pa), shared/reference/wire_law_traces/README.md
-SW_CURVE = ((0.0019230769, 2.5e8), (0.0192, 3.2195e8), (0.05, 3.8292e8), (0.15, 5.1219e8),
-            (0.25, 5.5854e8), (0.30, 5.6585e8), (0.35, 5.6585e8))
-WIRE = dict(wire_d=0.0027, selvedge_d=0.0034, lambda_eps=0.4, lambda_k=0.66, wire_nu=0.3)
-ROPE = dict(rope_d=0.01, rope_E=6e10, rope_nu=0.3, shear="eb")
-CONTACT = dict(kn=1e9, ks=1e8, mu=0.2)
+# Materials and contacts (the SW curve among them, tests/reference/wire_law_traces/README.md):
+# their one source is inputs/include/materials.in, read by postprocess/model.
+
 # The cone's apex is a flat disc of 2 cm radius: on a sharp apex the rope crossing at the panel
 # centre rests on a point and, once the ropes pull hard enough, slips off sideways at a moment
 # set by round-off, so two runs at different rates part ways there (doc/punch.md).
@@ -144,7 +142,7 @@ def centre_node(data, meta):
 class Setup:
     """Everything a punch run needs; .variables(speed, out) gives the deck's -var values."""
 
-    def __init__(self, workdir, panel, platter, bending=0.05, quick=False, steps_per_m=None,
+    def __init__(self, workdir, panel, platter, bending=PAPER_BENDING, quick=False, steps_per_m=None,
                  travel=None, stop_broken=0):
         os.makedirs(workdir, exist_ok=True)
         self.panel, self.platter, self.bending, self.quick = panel, platter, bending, quick
@@ -202,16 +200,12 @@ class Setup:
         v = dict(data=os.path.abspath(self.data_path), stl=os.path.abspath(self.stl),
                  platter_h=PLATTERS[self.platter]["height"], half_w=half["width"] / 2,
                  half_h=half["height"] / 2, centre_id=self.centre_id, centre_r=self.centre_r,
-                 layers=self.layers, curve=" ".join(f"{e!r} {s!r}" for e, s in SW_CURVE),
-                 bending=self.bending, alpha=ALPHA, mass_scale=repr(self.mass_scale),
+                 layers=self.layers, bending=self.bending, alpha=ALPHA, mass_scale=repr(self.mass_scale),
                  dt=repr(self.dt), dt_preload=repr(self.dt_preload), relax_steps=self.relax_steps, speed=repr(speed),
                  travel=travel or self.travel, every=every, ke_every=ke_every,
                  dump_every=every * 5, out=".",
                  stop_broken=self.stop_broken if stop_broken is None else stop_broken,
                  gamma_n=repr(self.gamma_n))
-        v.update(WIRE)
-        v.update(ROPE)
-        v.update(CONTACT)
         return v, every
 
     def displacement(self, steps, speed_factor=1.0):
@@ -438,7 +432,7 @@ def preload_facts(workdir):
     return facts
 
 
-def run_case(case_dir, panel, platter, bending=0.05, quick=False, np_=1, **setup_options):
+def run_case(case_dir, panel, platter, bending=PAPER_BENDING, quick=False, np_=1, **setup_options):
     """One punch case with its quasi-static evidence; returns the facts for case.json."""
     setup = Setup(os.path.join(case_dir, "setup"), panel, platter, bending, quick,
                   **setup_options)

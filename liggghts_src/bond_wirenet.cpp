@@ -2,6 +2,7 @@
 
 #include "bond_wirenet.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -23,7 +24,8 @@ using namespace WireNet;
 static const char HISTORY_FIX_ID[] = "wirenet_bonds";
 
 BondWirenet::BondWirenet(LAMMPS *lmp) :
-  Bond(lmp), nbeam(0), list_version(-1), history(NULL), any_beam(0), plastic_work(0.0) {}
+  Bond(lmp), nbeam(0), list_version(-1), history(NULL), any_beam(0), any_strength(0),
+  any_beam_damping(0), any_damping(0), plastic_work(0.0), damping_work(0.0), duplicates_checked(false) {}
 
 BondWirenet::~BondWirenet()
 {
@@ -94,15 +96,28 @@ void BondWirenet::init_style()
   if (!force->newton_bond)
     error->all(FLERR, "bond_style wirenet needs newton_bond on: put 'newton off on' (or 'newton on') before read_data");
   ensure_history_fix();
+  if (!duplicates_checked) check_duplicate_bonds();
 
   // Ghost atoms must reach across the longest bond at its largest stretch before rupture.
-  // Beams do not rupture; 1.5 covers any stretch a rope survives in practice.
+  // Beams: 1.5 covers any stretch a rope survives in practice (a steel rope with `strength`
+  // breaks at about 1 % of strain).
   double stretch = 1.0;
-  any_beam = 0;
+  any_beam = any_strength = any_beam_damping = any_damping = 0;
   for (int t = 1; t <= atom->nbondtypes; t++) {
-    if (wires[t]) stretch = fmax(stretch, wires[t]->max_stretch());
-    if (beams[t]) { stretch = fmax(stretch, 1.5); any_beam = 1; }
+    if (wires[t]) {
+      stretch = fmax(stretch, wires[t]->max_stretch());
+      if (specs[t].wire.damping > 0.0) any_damping = 1;
+    }
+    if (beams[t]) {
+      stretch = fmax(stretch, 1.5);
+      any_beam = 1;
+      if (beams[t]->breakable()) any_strength = 1;
+      if (beams[t]->damped()) any_beam_damping = any_damping = 1;
+    }
   }
+  // damping reads the velocities of both nodes, also of a ghost partner
+  history->use_velocities(any_damping);
+  list_version = -1;  // the damping coefficients of the beam list may have changed
   // Node orientations cost a pass over the atoms and a ghost exchange every step: track them
   // only when a beam bond exists (a hexagonal net with the deck's rope type declared has none;
   // bonds are never created during a run, so the answer holds until the next init).
@@ -110,6 +125,40 @@ void BondWirenet::init_style()
   const double lmax = history->max_bond_length_global();
   history->set_ghost_extent(lmax * stretch);
   if (comm->me == 0) report_types();
+}
+
+// A bond listed twice (as 1 2 and 1 2, or 1 2 and 2 1) would act twice. With the default
+// special_bonds LIGGGHTS' read_data stops on it first ("1-3 bond count is inconsistent"); with
+// special_bonds lj/coul 0 1 1 it passes read_data. Every rank gathers all bonds as (smaller tag,
+// larger tag) once: a few bytes per bond, at the first run only.
+void BondWirenet::check_duplicate_bonds()
+{
+  duplicates_checked = true;
+  std::vector<int> mine;
+  for (int i = 0; i < atom->nlocal; i++)
+    for (int m = 0; m < atom->num_bond[i]; m++) {
+      const int a = atom->tag[i], b = atom->bond_atom[i][m];
+      mine.push_back(a < b ? a : b);
+      mine.push_back(a < b ? b : a);
+    }
+  const int nprocs = comm->nprocs, count = (int)mine.size();
+  std::vector<int> counts(nprocs), displs(nprocs, 0);
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
+  for (int p = 1; p < nprocs; p++) displs[p] = displs[p - 1] + counts[p - 1];
+  std::vector<int> all(displs[nprocs - 1] + counts[nprocs - 1]);
+  MPI_Allgatherv(mine.data(), count, MPI_INT, all.data(), counts.data(), displs.data(), MPI_INT, world);
+  std::vector<long long> keys(all.size() / 2);
+  for (size_t k = 0; k < keys.size(); k++)
+    keys[k] = ((long long)all[2 * k] << 32) | (long long)(unsigned int)all[2 * k + 1];
+  std::sort(keys.begin(), keys.end());
+  for (size_t k = 1; k < keys.size(); k++)
+    if (keys[k] == keys[k - 1]) {
+      char msg[256];
+      snprintf(msg, sizeof(msg),
+               "bond_style wirenet: the bond between atoms %lld and %lld is listed twice in the data file "
+               "(it would act twice); remove one of the two lines", keys[k] >> 32, keys[k] & 0xffffffffLL);
+      error->all(FLERR, msg);
+    }
 }
 
 bool BondWirenet::beam_bonds_present() const
@@ -142,21 +191,23 @@ void BondWirenet::ensure_history_fix()
 void BondWirenet::report_types()
 {
   for (int t = 1; t <= atom->nbondtypes; t++) {
-    char line[256];
+    char line[512];
     const BondTypeSpec &s = specs[t];
     if (s.kind == LawKind::WIRE) {
       const WireLaw &w = *wires[t];
       snprintf(line, sizeof(line),
-               "bond_style wirenet: type %d wire (%s): d = %g m, A = %g m^2, %zu curve points, rupture strain %g%s%s\n",
+               "bond_style wirenet: type %d wire (%s): d = %g m, A = %g m^2, %zu curve points, rupture strain %g%s%s, damping %g\n",
                t, s.family.c_str(), s.wire.diameter, w.area(), s.wire.strain.size(), s.wire.strain.back(),
-               s.wire.derived ? ", derived double twist" : "", s.wire.slack ? ", random slack" : "");
+               s.wire.derived ? ", derived double twist" : "", s.wire.slack ? ", random slack" : "", s.wire.damping);
     }
     if (s.kind == LawKind::BEAM) {
       const BeamLawParams &b = s.beam;
+      char strength[96] = "no strength";
+      if (b.strength) snprintf(strength, sizeof(strength), "strength %g Pa (tension) %g Pa (shear)", b.sigma_t, b.tau_c);
       snprintf(line, sizeof(line),
-               "bond_style wirenet: type %d beam (%s): d = %g m, E = %g Pa, nu = %g, bending %g EI, twist %g GJ, shear %s\n",
+               "bond_style wirenet: type %d beam (%s): d = %g m, E = %g Pa, nu = %g, bending %g EI, twist %g GJ, shear %s, %s, damping %g\n",
                t, s.family.c_str(), b.diameter, b.young, b.nu, b.bending, b.twist < 0 ? b.bending : b.twist,
-               b.shear == ShearModel::EULER_BERNOULLI ? "eb (12 f EI/L0^3)" : "pb (GA/L0)");
+               b.shear == ShearModel::EULER_BERNOULLI ? "eb (12 f EI/L0^3)" : "pb (GA/L0)", strength, b.damping);
     }
     if (screen) fputs(line, screen);
     if (logfile) fputs(line, logfile);
@@ -191,20 +242,27 @@ void BondWirenet::build_list()
         const double d[3] = { x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2] };
         init_record(e, sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
       }
+      if (e.h[FixWirenetBonds::L0] < 0.0) continue;  // broken, awaiting removal
       BeamConst<double> b;
       beams[type]->prepare(e.h, b);
+      if (beams[type]->damped()) {
+        const double *rm = atom->rmass, *rad = atom->radius;
+        beams[type]->set_damping(b.l0, rm[i], rm[j], 0.4 * rm[i] * rad[i] * rad[i], 0.4 * rm[j] * rad[j] * rad[j], b);
+      }
       if (nbeam % 2 == 0) beam_list.emplace_back();
       BeamPair &p = beam_list.back();
       const int k = nbeam++ % 2;
       set_lane(p.c, k, b);
       p.i[k] = i;
       p.j[k] = j;
+      p.m[k] = m;
     }
   if (nbeam % 2) {
     BeamPair &p = beam_list.back();
     set_lane(p.c, 1, lane(p.c, 0));
     p.i[1] = p.i[0];
     p.j[1] = p.j[0];
+    p.m[1] = p.m[0];
   }
   list_version = history->list_version();
 }
@@ -242,8 +300,21 @@ inline void BondWirenet::compute_wire(const Entry &e, double dx, double dy, doub
   if (h[W_UMAX] > umax0)
     plastic_work += 0.5 * (fmax0 + h[W_FMAX]) * (h[W_UMAX] - umax0) -
                     0.5 * (h[W_FMAX] * h[W_FMAX] - fmax0 * fmax0) / h[W_KU];
-  if (tension == 0.0) return;
-  const double fr = tension / r;
+  if (tension == 0.0) return;  // slack or shortened: no force, no damping
+  double pull = tension;
+  const double zeta = specs[e.type].wire.damping;
+  if (zeta > 0.0) {
+    // viscous damping of the taut wire along its axis, c = 2 zeta sqrt(k_u m_eff); the wire
+    // never pushes: the damped force is at least zero
+    const double *vi = atom->v[e.i], *vj = atom->v[e.j];
+    const double vn = ((vj[0] - vi[0]) * dx + (vj[1] - vi[1]) * dy + (vj[2] - vi[2]) * dz) / r;
+    const double mi = atom->rmass[e.i], mj = atom->rmass[e.j];
+    const double c = 2.0 * zeta * sqrt(h[W_KU] * mi * mj / (mi + mj));
+    pull = tension + c * vn;
+    if (pull < 0.0) pull = 0.0;
+    damping_work += (pull - tension) * vn;  // power dissipated, >= 0
+  }
+  const double fr = pull / r;
   double **f = atom->f;
   f[e.i][0] += fr * dx; f[e.i][1] += fr * dy; f[e.i][2] += fr * dz;
   f[e.j][0] -= fr * dx; f[e.j][1] -= fr * dy; f[e.j][2] -= fr * dz;
@@ -275,10 +346,42 @@ inline void apply(const BeamLoad<T> &o, int k, int i, int j, double *f, double *
 
 }  // namespace
 
+// A beam bond reached its strength: record the rupture as a wire's (released energy = its strain
+// energy at this step) and zero its lane, so the bond exerts nothing until it is removed from
+// the bond list at the next re-neighbouring.
+void BondWirenet::break_beam(BeamPair &p, int k)
+{
+  const int i = p.i[k], j = p.j[k];
+  BeamConst<double> b = lane(p.c, k);
+  BeamNodes<double> n;
+  const double *x = atom->x[0], *rot = history->rotations();
+  for (int c = 0; c < 3; c++) {
+    n.xi[c] = x[3 * i + c];
+    n.xj[c] = x[3 * j + c];
+  }
+  for (int c = 0; c < 9; c++) {
+    n.ri[c] = rot[9 * i + c];
+    n.rj[c] = rot[9 * j + c];
+  }
+  BeamResult out;
+  BeamLaw::load<true>(b, n, out);
+  const double d[3] = { n.xj[0] - n.xi[0], n.xj[1] - n.xi[1], n.xj[2] - n.xi[2] };
+  const double mid[3] = { n.xi[0] + 0.5 * d[0], n.xi[1] + 0.5 * d[1], n.xi[2] + 0.5 * d[2] };
+  const double length = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  history->break_bond(i, p.m[k], mid, length - b.l0, out.energy);
+  b.ka = b.kp = b.km = b.kf = b.kt = 0.0;
+  b.sa = b.sm = b.ss = b.st = 0.0;
+  b.ca = b.cs = b.cb = b.ct = 0.0;
+  set_lane(p.c, k, b);
+  // the copy in lane 1 of an odd last pair is not applied; keep it identical all the same
+  if (&p == &beam_list.back() && nbeam % 2 && k == 0) set_lane(p.c, 1, b);
+}
+
 // The beam bonds, a pair per step of the loop, on flat views of the per-atom arrays (LAMMPS' 2d
 // arrays are one block each). Bonds bent beyond the series, and all bonds when energy or virial
-// are tallied, go one at a time.
-template <int EVFLAG>
+// are tallied, go one at a time. STRENGTH: check each bond's failure index (a type has
+// `strength`); a bond that fails exerts nothing from this step on.
+template <int EVFLAG, bool STRENGTH>
 void BondWirenet::compute_beams(int eflag)
 {
   const double *x = atom->x[0], *rot = history->rotations();
@@ -286,7 +389,7 @@ void BondWirenet::compute_beams(int eflag)
   const int nlocal = atom->nlocal, newton_bond = force->newton_bond;
   const int npair = beam_list.size();
   for (int q = 0; q < npair; q++) {
-    const BeamPair &p = beam_list[q];
+    BeamPair &p = beam_list[q];
     const int nb = q < npair - 1 ? 2 : nbeam - 2 * q;  // bonds to apply: the last lane may be a copy
     if constexpr (!EVFLAG) {
       const double *xi0 = x + 3 * p.i[0], *xi1 = x + 3 * p.i[1];
@@ -303,8 +406,11 @@ void BondWirenet::compute_beams(int eflag)
         n.rj[c] = Lanes{ rj0[c], rj1[c] };
       }
       BeamLoad<Lanes> out;
-      if (BeamLaw::load<false>(p.c, n, out)) {
-        for (int k = 0; k < nb; k++) apply(out, k, p.i[k], p.j[k], f, t);
+      if (BeamLaw::load<false, STRENGTH>(p.c, n, out)) {
+        for (int k = 0; k < nb; k++) {
+          if (STRENGTH && out.fail[k] >= 1.0) break_beam(p, k);
+          else apply(out, k, p.i[k], p.j[k], f, t);
+        }
         continue;
       }
     }
@@ -320,7 +426,11 @@ void BondWirenet::compute_beams(int eflag)
         n.rj[c] = rot[9 * j + c];
       }
       BeamResult out;
-      BeamLaw::load<EVFLAG != 0>(lane(p.c, k), n, out);
+      BeamLaw::load<EVFLAG != 0, STRENGTH>(lane(p.c, k), n, out);
+      if (STRENGTH && out.fail >= 1.0) {
+        break_beam(p, k);
+        continue;
+      }
       apply(out, 0, i, j, f, t);
       if (EVFLAG) {
         // energy is exact; the virial holds the axial part only (the bond force is not central)
@@ -341,6 +451,7 @@ void BondWirenet::compute(int eflag, int vflag)
 
   double **x = atom->x;
   plastic_work = 0.0;
+  damping_work = 0.0;
   for (const Entry &e : wire_list) {
     const double l0 = e.h[FixWirenetBonds::L0];
     if (l0 < 0.0) continue;  // broken earlier, awaiting removal
@@ -352,11 +463,37 @@ void BondWirenet::compute(int eflag, int vflag)
     compute_wire(e, dx, dy, dz, r, eflag);
   }
   if (!beam_list.empty()) {
-    if (evflag) compute_beams<1>(eflag);
-    else compute_beams<0>(eflag);
+    if (any_strength) {
+      if (evflag) compute_beams<1, true>(eflag);
+      else compute_beams<0, true>(eflag);
+    } else {
+      if (evflag) compute_beams<1, false>(eflag);
+      else compute_beams<0, false>(eflag);
+    }
+    if (any_beam_damping) damp_beams();
   }
   if (plastic_work != 0.0) history->add_plastic_work(plastic_work);
+  // the set-up's force evaluation is not a step: nothing is dissipated over it
+  if (damping_work != 0.0 && !update->setupflag) history->add_damping_work(damping_work * update->dt);
   if (update->setupflag) report_timestep();
+}
+
+// Bond damping of the beam bonds (after their elastic forces; a broken bond's lane has zero
+// coefficients): forces, torques and the dissipated power.
+void BondWirenet::damp_beams()
+{
+  const double *x = atom->x[0], *v = atom->v[0], *w = atom->omega[0];
+  double *f = atom->f[0], *t = atom->torque[0];
+  for (int q = 0; q < (int)beam_list.size(); q++) {
+    const BeamPair &p = beam_list[q];
+    for (int k = 0; k < 2 && 2 * q + k < nbeam; k++) {
+      const BeamConst<double> b = lane(p.c, k);
+      if (b.ca == 0.0 && b.cs == 0.0 && b.cb == 0.0 && b.ct == 0.0) continue;
+      const int i = p.i[k], j = p.j[k];
+      damping_work += BeamLaw::damp(b, x + 3 * i, x + 3 * j, v + 3 * i, v + 3 * j, w + 3 * i, w + 3 * j,
+                                    f + 3 * i, f + 3 * j, t + 3 * i, t + 3 * j);
+    }
+  }
 }
 
 // Stable time step of the bonds present: per bond, the two-node axial and rotational

@@ -48,7 +48,7 @@ class BondWirenet : public Bond {
   // copies of their constants, two bonds per entry, one per SIMD lane. An odd count repeats the
   // last bond in lane 1 of the last pair: computed, not applied.
   struct Entry { int i, j, type, m; double *h; };
-  struct BeamPair { WireNet::BeamConst<WireNet::Lanes> c; int i[2], j[2]; };
+  struct BeamPair { WireNet::BeamConst<WireNet::Lanes> c; int i[2], j[2], m[2]; };
   std::vector<Entry> wire_list;
   std::vector<BeamPair> beam_list;
   int nbeam;  // beam bonds in beam_list
@@ -59,18 +59,26 @@ class BondWirenet : public Bond {
   std::vector<std::unique_ptr<WireNet::WireLaw>> wires;     // [type], null if not a wire
   std::vector<std::unique_ptr<WireNet::BeamLaw>> beams;     // [type], null if not a beam
   int any_beam;
+  int any_strength;      // a beam type with `strength`
+  int any_beam_damping;  // a beam type with `damping` > 0
+  int any_damping;       // any type with `damping` > 0
   double plastic_work;  // plastic work of the wire bonds in this compute() (energy budget)
+  double damping_work;  // energy dissipated by bond damping in this compute()
 
   void allocate();
   void set_type(int type, const WireNet::BondTypeSpec &spec);
   void build_list();
   void init_record(const Entry &e, double length);
   inline void compute_wire(const Entry &e, double dx, double dy, double dz, double r, int eflag);
-  template <int EVFLAG> void compute_beams(int eflag);
+  template <int EVFLAG, bool STRENGTH> void compute_beams(int eflag);
+  void break_beam(BeamPair &p, int k);
+  void damp_beams();
   void report_timestep();
   void ensure_history_fix();
   bool beam_bonds_present() const;  // any bond of a beam type on any rank (collective)
   void report_types();
+  bool duplicates_checked;
+  void check_duplicate_bonds();  // a bond listed twice in the data file (collective)
 };
 
 }

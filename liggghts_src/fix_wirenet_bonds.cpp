@@ -26,10 +26,10 @@ static const int RUPTURE_COLS = 8;
 
 FixWirenetBonds::FixWirenetBonds(LAMMPS *lmp, int narg, char **arg) :
   Fix(lmp, narg, arg),
-  hist(NULL), quat(NULL), rot(NULL), orient_flag(0), version(0), ghost_extent(0.0),
+  hist(NULL), quat(NULL), rot(NULL), orient_flag(0), vel_flag(0), version(0), ghost_extent(0.0),
   nbroken_total(0), nbroken_pending(0), pair_wanted(false), maxlocal(0)
 {
-  energy_mine[0] = energy_mine[1] = 0.0;
+  for (int k = 0; k < NENERGY; k++) energy_mine[k] = 0.0;
   if (narg != 3) error->all(FLERR, "fix wirenet/bonds takes no arguments (it is created by bond_style wirenet)");
   if (!atom->molecular) error->all(FLERR, "fix wirenet/bonds needs an atom style with bonds");
 
@@ -41,9 +41,10 @@ FixWirenetBonds::FixWirenetBonds(LAMMPS *lmp, int narg, char **arg) :
   create_attribute = 0;
   scalar_flag = 1;
   extscalar = 0;
-  // global vector: broken bonds, energy released at ruptures, plastic work of the wire bonds
+  // global vector: broken bonds, energy released at ruptures, plastic work of the wire bonds,
+  // energy dissipated by bond damping
   vector_flag = 1;
-  size_vector = 3;
+  size_vector = 1 + NENERGY;
   extvector = 0;
   global_freq = 1;
   local_flag = 1;
@@ -54,7 +55,7 @@ FixWirenetBonds::FixWirenetBonds(LAMMPS *lmp, int narg, char **arg) :
   size_local_cols = RUPTURE_COLS;
   size_local_rows = 0;
   array_local = NULL;
-  comm_forward = 9;
+  comm_forward = 15;  // the most sent per ghost: rotation matrix (9), velocity and omega (6)
 
   nslots = atom->bond_per_atom;
   grow_arrays(atom->nmax);
@@ -147,42 +148,64 @@ void FixWirenetBonds::unpack_restart(int nlocal, int nth)
 int FixWirenetBonds::size_restart(int) { return maxsize_restart(); }
 int FixWirenetBonds::maxsize_restart() { return 1 + nslots * NHIST + 4; }
 
+// What is sent depends on orient_flag and vel_flag, which are the same on every rank.
 int FixWirenetBonds::pack_comm(int n, int *list, double *buf, int, int *)
 {
   int m = 0;
+  double **v = atom->v, **omega = atom->omega;
   for (int k = 0; k < n; k++) {
-    const double *r = rot[list[k]];
-    for (int c = 0; c < 9; c++) buf[m++] = r[c];
+    const int i = list[k];
+    if (orient_flag)
+      for (int c = 0; c < 9; c++) buf[m++] = rot[i][c];
+    if (vel_flag) {
+      for (int c = 0; c < 3; c++) buf[m++] = v[i][c];
+      for (int c = 0; c < 3; c++) buf[m++] = omega[i][c];
+    }
   }
-  return 9;  // values per atom (LIGGGHTS' forward_comm_fix convention)
+  return 9 * orient_flag + 6 * vel_flag;  // values per atom (LIGGGHTS' forward_comm_fix convention)
 }
 
 void FixWirenetBonds::unpack_comm(int n, int first, double *buf)
 {
   int m = 0;
-  for (int i = first; i < first + n; i++)
-    for (int c = 0; c < 9; c++) rot[i][c] = buf[m++];
+  double **v = atom->v, **omega = atom->omega;
+  for (int i = first; i < first + n; i++) {
+    if (orient_flag)
+      for (int c = 0; c < 9; c++) rot[i][c] = buf[m++];
+    if (vel_flag) {
+      for (int c = 0; c < 3; c++) v[i][c] = buf[m++];
+      for (int c = 0; c < 3; c++) omega[i][c] = buf[m++];
+    }
+  }
 }
 
+// Layout: { -(number of values that follow), broken bonds, energies... }. Files written before
+// the damping tally hold { broken bonds (>= 0), released energy, plastic work }: the sign of the
+// first value tells them apart (restart() is not told the size of its state).
 void FixWirenetBonds::write_restart(FILE *fp)
 {
-  double energy_all[2];
-  MPI_Reduce(energy_mine, energy_all, 2, MPI_DOUBLE, MPI_SUM, 0, world);
+  double energy_all[NENERGY];
+  MPI_Reduce(energy_mine, energy_all, NENERGY, MPI_DOUBLE, MPI_SUM, 0, world);
   if (comm->me != 0) return;
-  double list[3] = { (double)nbroken_total, energy_all[0], energy_all[1] };
+  double list[2 + NENERGY] = { -(double)(1 + NENERGY), (double)nbroken_total };
+  for (int k = 0; k < NENERGY; k++) list[2 + k] = energy_all[k];
   // Modify::read_restart reads this many BYTES of state (not values).
   int size = (int)sizeof(list);
   fwrite(&size, sizeof(int), 1, fp);
-  fwrite(list, sizeof(double), 3, fp);
+  fwrite(list, sizeof(double), 2 + NENERGY, fp);
 }
 
 // The energy totals go to rank 0's share; the other ranks start from zero.
 void FixWirenetBonds::restart(char *buf)
 {
   const double *list = (const double *)buf;
+  int n = 3;  // old layout: count, released energy, plastic work
+  if (list[0] < 0.0) {
+    n = (int)(-list[0]);
+    list++;
+  }
   nbroken_total = (bigint)list[0];
-  energy_mine[0] = comm->me == 0 ? list[1] : 0.0;
-  energy_mine[1] = comm->me == 0 ? list[2] : 0.0;
+  for (int k = 0; k < NENERGY; k++) energy_mine[k] = (comm->me == 0 && 1 + k < n) ? list[1 + k] : 0.0;
 }
 
 /* ------------------------------------------------------------------------------------------- */
@@ -397,11 +420,18 @@ void FixWirenetBonds::refresh_rotations()
     r[3] = 2 * (x * y + w * z);     r[4] = 1 - 2 * (x * x + z * z); r[5] = 2 * (y * z - w * x);
     r[6] = 2 * (x * z - w * y);     r[7] = 2 * (y * z + w * x);     r[8] = 1 - 2 * (x * x + y * y);
   }
-  comm->forward_comm_fix(this);
 }
 
-void FixWirenetBonds::setup_pre_force(int) { if (orient_flag) refresh_rotations(); }
-void FixWirenetBonds::pre_force(int) { if (orient_flag) refresh_rotations(); }
+// Before the forces: the rotation matrices (beam bonds) and the velocities (bond damping) of the
+// ghost atoms, in one exchange.
+void FixWirenetBonds::refresh_ghosts()
+{
+  if (orient_flag) refresh_rotations();
+  if (orient_flag || vel_flag) comm->forward_comm_fix(this);
+}
+
+void FixWirenetBonds::setup_pre_force(int) { refresh_ghosts(); }
+void FixWirenetBonds::pre_force(int) { refresh_ghosts(); }
 
 double FixWirenetBonds::memory_usage()
 {

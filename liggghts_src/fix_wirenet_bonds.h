@@ -61,12 +61,17 @@ class FixWirenetBonds : public Fix {
   // bumped whenever local atom indices or bond slots may have changed
   long list_version() const { return version; }
   void use_orientations(bool on) { orient_flag = on ? 1 : 0; }
+  // send velocities and angular velocities to the ghost atoms before the forces (bond damping;
+  // LIGGGHTS sends them only with 'communicate ... vel yes')
+  void use_velocities(bool on) { vel_flag = on ? 1 : 0; }
   void set_ghost_extent(double cut) { ghost_extent = cut; }
   // flag the bond (i, slot m) as broken; it leaves the atom's bond list at the next exchange;
   // energy = the elastic energy the bond stored when it broke (released)
   void break_bond(int i, int m, const double *mid, double elongation, double energy = 0.0);
   // plastic work dissipated by this rank's wire bonds (energy budget, global vector [3])
   void add_plastic_work(double w) { energy_mine[1] += w; }
+  // energy dissipated by this rank's bond damping (global vector [4])
+  void add_damping_work(double w) { energy_mine[2] += w; }
   // Force and torque on the local atoms when the bond style starts its compute(), i.e. the pair
   // forces (fix wirenet/contactwork pair); taken only once someone asked for them.
   void request_pair_forces() { pair_wanted = true; }
@@ -81,14 +86,16 @@ class FixWirenetBonds : public Fix {
   double **hist;     // [nmax][nslots * NHIST]
   double **quat;     // [nmax][4] node orientation (w, x, y, z), space frame
   double **rot;      // [nmax][9] its rotation matrix, derived each step, sent to ghosts
-  int orient_flag;
+  int orient_flag, vel_flag;
   long version;
   double ghost_extent;
   bigint nbroken_total;  // all ranks, since the bonds were created (restarted)
   int nbroken_pending;   // flagged on this rank, not yet removed from the bond lists
   // this rank's tallies since the bonds were created (rank 0 also holds a restart's totals):
-  // [0] elastic energy released at ruptures, [1] plastic work of the wire bonds
-  double energy_mine[2];
+  // [0] elastic energy released at ruptures, [1] plastic work of the wire bonds, [2] energy
+  // dissipated by bond damping
+  static const int NENERGY = 3;
+  double energy_mine[NENERGY];
   bool pair_wanted;
   std::vector<double> pair_snap;  // [6 * nlocal]: f and torque
 
@@ -96,6 +103,7 @@ class FixWirenetBonds : public Fix {
 
   void reset_atom(int);
   void refresh_rotations();
+  void refresh_ghosts();
   void remove_broken_bonds(bool scan_all);
   void check_partners_present();
 };

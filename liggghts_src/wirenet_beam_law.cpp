@@ -48,6 +48,11 @@ BeamLaw::BeamLaw(const BeamLawParams &p) : p_(p)
   // twist < 0 is the "not given" sentinel (the parser refuses an explicit negative value)
   twist_fraction_ = p.twist < 0.0 ? p.bending : p.twist;
   require(std::isfinite(twist_fraction_), "beam twist fraction must be a finite number >= 0", p.twist);
+  if (p.strength) {
+    require(std::isfinite(p.sigma_t) && p.sigma_t > 0.0, "beam strength SIGMA_T must be a finite number > 0", p.sigma_t);
+    require(std::isfinite(p.tau_c) && p.tau_c > 0.0, "beam strength TAU_C must be a finite number > 0", p.tau_c);
+  }
+  require(std::isfinite(p.damping) && p.damping >= 0.0, "beam damping must be a finite number >= 0", p.damping);
   const double r = 0.5 * p.diameter;
   area_ = M_PI * r * r;
   inertia_ = M_PI * r * r * r * r / 4.0;
@@ -98,12 +103,34 @@ void BeamLaw::prepare(const double *h, BeamConst<double> &b) const
   b.km = k.shear_coupling - k.bending;
   b.kf = 2.0 * k.shear_coupling;
   b.kt = k.twist;
+  // strength of the geometric section of diameter D, whatever the stiffness fractions
+  const double R = 0.5 * p_.diameter;
+  b.sa = p_.strength ? 1.0 / (area_ * p_.sigma_t) : 0.0;
+  b.sm = p_.strength ? R / (inertia_ * p_.sigma_t) : 0.0;
+  b.ss = p_.strength ? 1.0 / (area_ * p_.tau_c) : 0.0;
+  b.st = p_.strength ? R / (polar_ * p_.tau_c) : 0.0;
+  b.ca = b.cs = b.cb = b.ct = 0.0;  // set_damping() with the node masses
   for (int c = 0; c < 3; c++) {
     b.di[c] = h[B_DI + c];
     b.dj[c] = h[B_DJ + c];
     b.pi[c] = h[B_PI + c];
     b.pj[c] = h[B_PJ + c];
   }
+}
+
+void BeamLaw::set_damping(double l0, double mi, double mj, double ii, double ij, BeamConst<double> &b) const
+{
+  // each mode of the two-node bond is an oscillator of stiffness k and effective mass (or moment
+  // of inertia) m1 m2 / (m1 + m2): c = 2 zeta sqrt(k m_eff)
+  const double z = p_.damping;
+  if (z == 0.0) { b.ca = b.cs = b.cb = b.ct = 0.0; return; }
+  const Stiffness k = stiffness(l0);
+  const double m_eff = mi * mj / (mi + mj), i_eff = ii * ij / (ii + ij);
+  const double ks = 4.0 * k.shear_coupling / (l0 * l0);  // Ks = 4 Cs / l0^2
+  b.ca = 2.0 * z * std::sqrt(k.axial * m_eff);
+  b.cs = 2.0 * z * std::sqrt(ks * m_eff);
+  b.cb = 2.0 * z * std::sqrt(k.bending * i_eff);
+  b.ct = 2.0 * z * std::sqrt(k.twist * i_eff);
 }
 
 BeamConst<double> lane(const BeamConst<Lanes> &p, int k)
@@ -115,6 +142,8 @@ BeamConst<double> lane(const BeamConst<Lanes> &p, int k)
   b.km = p.km[k];
   b.kf = p.kf[k];
   b.kt = p.kt[k];
+  b.sa = p.sa[k]; b.sm = p.sm[k]; b.ss = p.ss[k]; b.st = p.st[k];
+  b.ca = p.ca[k]; b.cs = p.cs[k]; b.cb = p.cb[k]; b.ct = p.ct[k];
   for (int c = 0; c < 3; c++) {
     b.di[c] = p.di[c][k];
     b.dj[c] = p.dj[c][k];
@@ -132,6 +161,8 @@ void set_lane(BeamConst<Lanes> &p, int k, const BeamConst<double> &b)
   p.km[k] = b.km;
   p.kf[k] = b.kf;
   p.kt[k] = b.kt;
+  p.sa[k] = b.sa; p.sm[k] = b.sm; p.ss[k] = b.ss; p.st[k] = b.st;
+  p.ca[k] = b.ca; p.cs[k] = b.cs; p.cb[k] = b.cb; p.ct[k] = b.ct;
   for (int c = 0; c < 3; c++) {
     p.di[c][k] = b.di[c];
     p.dj[c][k] = b.dj[c];

@@ -21,6 +21,10 @@ struct BeamLawParams {
   double bending = 1.0;  // fraction of E I
   double twist = -1.0;   // fraction of G J; < 0 means "same as bending"
   ShearModel shear = ShearModel::EULER_BERNOULLI;
+  bool strength = false;  // parallel-bond rupture (Potyondy & Cundall 2004); false: unbreakable
+  double sigma_t = 0.0;   // tensile strength [Pa]
+  double tau_c = 0.0;     // shear strength [Pa]
+  double damping = 0.0;   // fraction of critical damping of each of the bond's two-node modes
 };
 
 // Per-bond history record of a beam bond. The chord direction and a perpendicular reference are
@@ -49,6 +53,12 @@ template <typename T> struct BeamConst {
   T kf;                          // 2 Cs: shear force = kf |theta_i + theta_j| / L
   T kt;                          // twist stiffness
   T di[3], dj[3], pi[3], pj[3];  // B_DI, B_DJ, B_PI, B_PJ of the record
+  // strength: failure index = max(F_n sa + |M_b| sm, |F_s| ss + |M_t| st), the bond breaks at 1;
+  // sa = 1/(A SIGMA_T), sm = R/(I SIGMA_T), ss = 1/(A TAU_C), st = R/(J TAU_C); 0 = no strength
+  T sa, sm, ss, st;
+  // damping coefficients of the axial, shear, bending and twist modes (set by the bond style,
+  // which knows the node masses; not read by load())
+  T ca, cs, cb, ct;
 };
 
 // What the kernel reads of the nodes: positions and row-major rotation matrices (body to space).
@@ -58,6 +68,7 @@ template <typename T> struct BeamLoad {
   T force_i[3];  // force on node i (node j gets the opposite)
   T torque_i[3], torque_j[3];
   T axial;       // axial force, positive in tension
+  T fail;        // failure index (REPORT or STRESS only): the bond breaks when it is >= 1
   // for output and energy tallies only (REPORT)
   T shear;       // shear force magnitude
   T moment;      // largest end bending moment magnitude
@@ -87,11 +98,24 @@ class BeamLaw {
   void prepare(const double *h, BeamConst<double> &b) const;
 
   // Forces and moments of one bond or a pair; with REPORT false only forces, torques and the
-  // axial force are filled (REPORT needs T = double). A pair returns false, untouched, when one
-  // of its bonds bends or twists beyond the series (about 3 degrees): evaluate those one at a
-  // time (T = double always succeeds). Inline, component by component: it is the bond loop.
-  template <bool REPORT, typename T>
+  // axial force are filled (REPORT needs T = double), STRESS adds the failure index. A pair
+  // returns false, untouched, when one of its bonds bends or twists beyond the series (about 3
+  // degrees): evaluate those one at a time (T = double always succeeds). Inline, component by
+  // component: it is the bond loop.
+  template <bool REPORT, bool STRESS = false, typename T>
   static bool load(const BeamConst<T> &b, const BeamNodes<T> &n, BeamLoad<T> &out);
+
+  // Viscous damping of one bond (see doc/bond_wirenet.md, "Bond damping"): node velocities v and
+  // angular velocities w. Adds the force on i (j gets the opposite) and the torques on i and j,
+  // returns the dissipated power (>= 0). No allocation.
+  static inline double damp(const BeamConst<double> &b, const double *xi, const double *xj,
+                            const double *vi, const double *vj, const double *wi, const double *wj,
+                            double *fi, double *fj, double *ti, double *tj);
+  // the damping coefficients of a bond of initial length l0 between nodes of masses mi, mj and
+  // moments of inertia ii, ij
+  void set_damping(double l0, double mi, double mj, double ii, double ij, BeamConst<double> &b) const;
+  bool breakable() const { return p_.strength; }
+  bool damped() const { return p_.damping > 0.0; }
   // The same from a history record and raw pointers (output, tests).
   void evaluate(const double *h, const double *xi, const double *xj, const double *ri,
                 const double *rj, BeamResult &out, bool report = true) const;
@@ -133,6 +157,10 @@ template <typename T> inline V<T> lin(T a, const V<T> &x, T b, const V<T> &y)
 
 inline double root(double a) { return std::sqrt(a); }
 inline Lanes root(Lanes a) { return Lanes{ std::sqrt(a[0]), std::sqrt(a[1]) }; }
+inline double larger(double a, double b) { return a > b ? a : b; }
+inline Lanes larger(Lanes a, Lanes b) { return Lanes{ a[0] > b[0] ? a[0] : b[0], a[1] > b[1] ? a[1] : b[1] }; }
+inline double magnitude(double a) { return std::fabs(a); }
+inline Lanes magnitude(Lanes a) { return Lanes{ std::fabs(a[0]), std::fabs(a[1]) }; }
 // a comparison is true in every lane (one bond: bool & bool is an int)
 inline bool all(int m) { return m != 0; }
 template <typename M> inline bool all(M m) { return m[0] && m[1]; }
@@ -178,7 +206,7 @@ template <typename T> inline bool bend(const V<T> &a, const V<T> &b, V<T> &th)
 
 // always_inline: GCC would call it, and the loop would pay for the call and the result's trip
 // through memory
-template <bool REPORT, typename T>
+template <bool REPORT, bool STRESS, typename T>
 inline __attribute__((always_inline)) bool BeamLaw::load(const BeamConst<T> &b, const BeamNodes<T> &n,
                                                          BeamLoad<T> &out)
 {
@@ -214,13 +242,62 @@ inline __attribute__((always_inline)) bool BeamLaw::load(const BeamConst<T> &b, 
   out.torque_j[1] = -tw * e.y - m_j.y;
   out.torque_j[2] = -tw * e.z - m_j.z;
   out.axial = axial;
+  if constexpr (REPORT || STRESS) {
+    // parallel-bond stresses: the largest tensile fibre stress F_n/A + |M_b| R/I (compression
+    // lowers it) and the largest shear stress |F_s|/A + |M_t| R/J, each over its strength; the
+    // bending moment is the larger of the two end moments
+    const T shear = fs * root(dot(sc, sc));
+    const T moment = root(larger(dot(m_i, m_i), dot(m_j, m_j)));
+    out.fail = larger(axial * b.sa + moment * b.sm, shear * b.ss + magnitude(tw) * b.st);
+    if constexpr (REPORT) {
+      out.shear = shear;
+      out.moment = moment;
+    }
+  }
   if constexpr (REPORT) {
-    out.shear = fs * root(dot(sc, sc));
-    out.moment = root(std::max(dot(m_i, m_i), dot(m_j, m_j)));
     // half the generalised forces times their displacements
     out.energy = 0.5 * (axial * (L - b.l0) + dot(m_i, th_i) + dot(m_j, th_j) + tw * phi);
   }
   return true;
+}
+
+inline double BeamLaw::damp(const BeamConst<double> &b, const double *xi, const double *xj,
+                            const double *vi, const double *vj, const double *wi, const double *wj,
+                            double *fi, double *fj, double *ti, double *tj)
+{
+  double e[3] = { xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2] };
+  const double L = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+  if (!(L > 0.0)) return 0.0;
+  for (int c = 0; c < 3; c++) e[c] /= L;
+  // relative velocity of the two bond ends at the bond's centre: dv - (L/2) (wi + wj) x e
+  const double h = 0.5 * L;
+  const double ws[3] = { wi[0] + wj[0], wi[1] + wj[1], wi[2] + wj[2] };
+  const double wxe[3] = { ws[1] * e[2] - ws[2] * e[1], ws[2] * e[0] - ws[0] * e[2], ws[0] * e[1] - ws[1] * e[0] };
+  double vc[3];
+  for (int c = 0; c < 3; c++) vc[c] = vj[c] - vi[c] - h * wxe[c];
+  const double vn = vc[0] * e[0] + vc[1] * e[1] + vc[2] * e[2];  // = (vj - vi).e
+  double f[3], vs2 = 0.0, wb2 = 0.0;
+  const double wr[3] = { wj[0] - wi[0], wj[1] - wi[1], wj[2] - wi[2] };
+  const double wn = wr[0] * e[0] + wr[1] * e[1] + wr[2] * e[2];
+  double m[3];
+  for (int c = 0; c < 3; c++) {
+    const double vs = vc[c] - vn * e[c];  // shear part of the end velocity
+    const double wb = wr[c] - wn * e[c];  // bending part of the relative rotation rate
+    vs2 += vs * vs;
+    wb2 += wb * wb;
+    f[c] = b.ca * vn * e[c] + b.cs * vs;    // on i, at the centre of the bond
+    m[c] = b.cb * wb + b.ct * wn * e[c];    // relative rotation: +m on i, -m on j
+  }
+  // the shear force acts at the centre: the same couple (L/2) e x f on both nodes
+  const double exf[3] = { h * (e[1] * f[2] - e[2] * f[1]), h * (e[2] * f[0] - e[0] * f[2]),
+                          h * (e[0] * f[1] - e[1] * f[0]) };
+  for (int c = 0; c < 3; c++) {
+    fi[c] += f[c];
+    fj[c] -= f[c];
+    ti[c] += m[c] + exf[c];
+    tj[c] += exf[c] - m[c];
+  }
+  return b.ca * vn * vn + b.cs * vs2 + b.cb * wb2 + b.ct * wn * wn;
 }
 
 }  // namespace WireNet

@@ -76,7 +76,7 @@ class ArgCursor {
 
 bool is_wire_keyword(const std::string &w)
 {
-  return w == "family" || w == "area_factor" || w == "derived" || w == "slack";
+  return w == "family" || w == "area_factor" || w == "derived" || w == "slack" || w == "damping";
 }
 
 void parse_wire(ArgCursor &c, BondTypeSpec &spec)
@@ -103,6 +103,7 @@ void parse_wire(ArgCursor &c, BondTypeSpec &spec)
     const std::string key = c.word("keyword");
     if (key == "family") spec.family = c.word("family name");
     else if (key == "area_factor") w.area_factor = c.number("area_factor", false);
+    else if (key == "damping") w.damping = c.number("wire damping", false);
     else if (key == "derived") {
       w.derived = true;
       w.lambda_eps = c.keyed("lambda_eps", "derived", false);
@@ -142,6 +143,11 @@ void parse_beam(ArgCursor &c, BondTypeSpec &spec)
       if (!(std::isfinite(b.twist) && b.twist >= 0.0))
         throw std::invalid_argument("beam twist fraction must be a finite number >= 0 (got " + fmt(b.twist) + ")");
     }
+    else if (key == "strength") {
+      b.strength = true;
+      b.sigma_t = c.number("beam strength SIGMA_T", false);
+      b.tau_c = c.number("beam strength TAU_C", false);
+    } else if (key == "damping") b.damping = c.number("beam damping", false);
     else if (key == "shear") {
       const std::string m = c.word("shear model (eb or pb)");
       if (m == "eb") b.shear = ShearModel::EULER_BERNOULLI;
@@ -185,10 +191,11 @@ std::vector<double> BondTypeSpec::serialize() const
     v.insert(v.end(), w.strain.begin(), w.strain.end());
     v.insert(v.end(), w.stress.begin(), w.stress.end());
     v.insert(v.end(), { (double)w.derived, w.lambda_eps, w.lambda_k, w.nu,
-                        (double)w.slack, w.lambda_u, w.lambda_f, (double)w.seed });
+                        (double)w.slack, w.lambda_u, w.lambda_f, (double)w.seed, w.damping });
   } else if (kind == LawKind::BEAM) {
     const BeamLawParams &b = beam;
-    v.insert(v.end(), { b.diameter, b.young, b.nu, b.bending, b.twist, (double)b.shear });
+    v.insert(v.end(), { b.diameter, b.young, b.nu, b.bending, b.twist, (double)b.shear,
+                        (double)b.strength, b.sigma_t, b.tau_c, b.damping });
   }
   return v;
 }
@@ -210,10 +217,15 @@ BondTypeSpec BondTypeSpec::deserialize(const std::vector<double> &v, const std::
     w.lambda_eps = v.at(k++); w.lambda_k = v.at(k++); w.nu = v.at(k++);
     w.slack = v.at(k++) != 0.0;
     w.lambda_u = v.at(k++); w.lambda_f = v.at(k++); w.seed = (long)v.at(k++);
+    if (k < v.size()) w.damping = v.at(k++);  // absent from restart files before damping
   } else if (s.kind == LawKind::BEAM) {
     BeamLawParams &b = s.beam;
     b.diameter = v.at(k++); b.young = v.at(k++); b.nu = v.at(k++);
     b.bending = v.at(k++); b.twist = v.at(k++); b.shear = (ShearModel)(int)v.at(k++);
+    if (k < v.size()) {  // absent from restart files before strength and damping
+      b.strength = v.at(k++) != 0.0;
+      b.sigma_t = v.at(k++); b.tau_c = v.at(k++); b.damping = v.at(k++);
+    }
   }
   return s;
 }

@@ -44,6 +44,8 @@ WireLaw::WireLaw(const WireLawParams &p) : p_(p)
           "wire diameter must be a finite number > 0 (got " + fmt(p.diameter) + ")");
   require(std::isfinite(p.area_factor) && p.area_factor > 0.0,
           "wire area_factor must be a finite number > 0 (got " + fmt(p.area_factor) + ")");
+  require(std::isfinite(p.damping) && p.damping >= 0.0,
+          "wire damping must be a finite number >= 0 (got " + fmt(p.damping) + ")");
   require(!p.strain.empty(), "wire law needs a curve (strain stress pairs)");
   require(p.strain.size() == p.stress.size(), "wire curve needs an even number of values (strain stress pairs)");
   for (size_t i = 0; i < p.strain.size(); ++i) {

@@ -35,6 +35,7 @@ struct WireLawParams {
   bool slack = false;
   double lambda_u = 0.0, lambda_f = 1.0;
   long seed = 0;
+  double damping = 0.0;  // fraction of critical damping of the bond's two-node oscillator
 };
 
 class WireLaw {

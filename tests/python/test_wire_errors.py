@@ -138,6 +138,25 @@ BAD_COEFFS = {
     "beam twist inf": ("beam diameter 0.01 E 6e10 nu 0.3 twist inf",
                        "beam twist fraction must be a finite number >= 0 (got inf)"),
     "beam twist missing": ("beam diameter 0.01 E 6e10 nu 0.3 twist", "missing beam twist fraction"),
+    # strength and damping (issue #17)
+    "beam strength negative": ("beam diameter 0.01 E 6e10 nu 0.3 strength -1 4e8",
+                               "beam strength SIGMA_T must be a finite number > 0 (got -1)"),
+    "beam strength inf": ("beam diameter 0.01 E 6e10 nu 0.3 strength inf 4e8",
+                          "beam strength SIGMA_T must be a finite number > 0 (got inf)"),
+    "beam strength TAU_C nan": ("beam diameter 0.01 E 6e10 nu 0.3 strength 8e8 nan",
+                                "beam strength TAU_C must be a finite number > 0 (got nan)"),
+    "beam strength TAU_C zero": ("beam diameter 0.01 E 6e10 nu 0.3 strength 8e8 0",
+                                 "beam strength TAU_C must be a finite number > 0 (got 0)"),
+    "beam strength missing value": ("beam diameter 0.01 E 6e10 nu 0.3 strength 8e8", "missing beam strength TAU_C"),
+    "beam strength value replaced by a keyword": ("beam diameter 0.01 E 6e10 nu 0.3 strength 8e8 family rope",
+                                                  "beam strength TAU_C must be a number (got 'family')"),
+    "beam damping negative": ("beam diameter 0.01 E 6e10 nu 0.3 damping -0.1",
+                              "beam damping must be a finite number >= 0 (got -0.1)"),
+    "beam damping inf": ("beam diameter 0.01 E 6e10 nu 0.3 damping inf", "beam damping must be a finite number >= 0 (got inf)"),
+    "beam damping missing": ("beam diameter 0.01 E 6e10 nu 0.3 damping", "missing beam damping"),
+    "wire damping nan": (f"{GOOD} damping nan", "wire damping must be a finite number >= 0 (got nan)"),
+    "wire damping negative": (f"{GOOD} family SW damping -0.05", "wire damping must be a finite number >= 0 (got -0.05)"),
+    "wire damping missing": (f"{GOOD} damping", "missing wire damping"),
 }
 
 
@@ -242,3 +261,17 @@ def test_zero_length_bond_is_reported(tmp_path, np_):
     assert len(errors) == 1 and phrase in errors[0], out[-2000:]
     if np_ == 1:
         assert phrase in (tmp_path / "log.lammps").read_text()
+
+
+@pytest.mark.parametrize("order", [(1, 2), (2, 1)], ids=["same order", "reversed"])
+def test_bond_listed_twice(tmp_path, order):
+    """A bond given twice in the data file. With the default special_bonds LIGGGHTS' read_data
+    stops first ('1-3 bond count is inconsistent', not ours); with special_bonds lj/coul 0 1 1
+    read_data accepts it and the style names the two atoms at the first run."""
+    atoms = [(1, 1, 0.0, 0.0, 0.0, 0.0108, 7850.0, 1), (2, 1, 0.04, 0.0, 0.0, 0.0108, 7850.0, 1),
+             (3, 1, 0.08, 0.0, 0.0, 0.0108, 7850.0, 1)]
+    lmp.write_data(tmp_path / "dup.data", atoms, [(1, 1, 1, 2), (2, 1, order[0], order[1]), (3, 1, 2, 3)])
+    pre = lmp.PREAMBLE + "special_bonds lj/coul 0 1 1\n"
+    rc, out = lmp.run_deck_rc(deck(f"bond_style wirenet\nbond_coeff 1 {GOOD}\nrun 0", preamble=pre, data="dup.data"),
+                              tmp_path, np=1)
+    check_error(rc, out, "the bond between atoms 1 and 2 is listed twice")

@@ -23,7 +23,7 @@ import time
 
 import numpy as np
 
-from . import liggghts, punch, zone
+from . import liggghts, punch, vtu, zone
 from .csvio import read_csv, write_csv
 from .datafile import read_data
 from .errors import PostprocessError
@@ -39,6 +39,7 @@ ZONE_RADIUS = 1.0
 DT_SAFETY = 0.5        # as the punch cases: half the stable step with the true masses
 OUTPUT_INTERVAL = 2e-4   # s between rows of impact.csv / block.csv
 DUMP_INTERVAL = 2e-3     # s between bond dumps (zone forces)
+FRAMES = 40              # ParaView frames over the impact (inputs/include/frames.in)
 
 
 def _panel_options(kind, quick):
@@ -100,7 +101,8 @@ class Setup:
                  node_r=repr(self.node_r), layers=self.layers, bending=self.bending, alpha=self.alpha, alpha_relax=ALPHA_RELAX, g=G,
                  dt=repr(self.dt), relax_steps=self.relax_steps, steps=self.steps,
                  every=self.every, dump_every=self.dump_every,
-                 zone_r=repr(ZONE_RADIUS + 0.2), out=".")
+                 zone_r=repr(ZONE_RADIUS + 0.2), out=".",
+                 frame_every=max(int(math.ceil(self.steps / FRAMES)), 1))
         if self.procs:
             v["procs"] = self.procs
         return v
@@ -228,6 +230,9 @@ def write_outputs(setup, case_dir, workdir, table):
     disp = np.interp(times, time_, t["z"][0] - t["z"])
     write_csv(os.path.join(case_dir, "zone_forces.csv"), zone.HEADER,
               zone.rows(times, disp, names, totals, maxima, counts))
+
+    # the ParaView series CASE/CASE.pvd (net) and CASE/CASE_body.pvd (block)
+    vtu.write_case_series(case_dir, workdir, setup.data_path, setup.dt)
 
     k_edge = int(np.argmax(edge))
     k_force = int(np.argmax(t["force_mean"]))

@@ -39,7 +39,7 @@ import time
 
 import numpy as np
 
-from . import liggghts, zone
+from . import liggghts, vtu, zone
 from .model import CONTACT, PAPER_BENDING, ROPE, SW_CURVE, WIRE
 from .csvio import read_csv, write_csv
 from .datafile import read_data
@@ -71,6 +71,7 @@ QUICK_TRAVEL = {"square": 0.1, "hex": 0.03, "compound": 0.03}
 # checks cover every output step of the whole travel.
 SLOW_TRAVEL = {"square": 1.0, "hex": 1.0 / SLOW_FACTOR, "compound": 1.0 / SLOW_FACTOR}
 TOLERANCE = 0.01     # 1 %: curve agreement, kinetic energy fraction, equilibrium
+FRAMES = 20          # ParaView frames over the travel (inputs/include/frames.in)
 
 
 def _panel_options(kind, quick):
@@ -205,7 +206,9 @@ class Setup:
                  travel=travel or self.travel, every=every, ke_every=ke_every,
                  dump_every=every * 5, out=".",
                  stop_broken=self.stop_broken if stop_broken is None else stop_broken,
-                 gamma_n=repr(self.gamma_n))
+                 gamma_n=repr(self.gamma_n),
+                 frame_every=max(int(math.ceil((travel or self.travel) / (speed * self.dt)
+                                               / FRAMES)), 1))
         return v, every
 
     def displacement(self, steps, speed_factor=1.0):
@@ -420,6 +423,8 @@ def write_outputs(setup, case_dir, workdir, table, radius=1.0):
     disp = setup.displacement(np.round(times / setup.dt))
     write_csv(os.path.join(case_dir, "zone_forces.csv"), zone.HEADER,
               zone.rows(times, disp, names, totals, maxima, counts))
+    # the ParaView series CASE/CASE.pvd (net) and CASE/CASE_body.pvd (platter)
+    vtu.write_case_series(case_dir, workdir, setup.data_path, setup.dt)
     return panel.families
 
 

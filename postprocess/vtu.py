@@ -2,9 +2,15 @@
 
 Cell data of every bond: tension [N], strain [-], family (the bond type number), broken (1 for a
 bond of the reference set that is missing from the frame, else 0), and length0, length, shear,
-moment when the dump has them. Point data: id, type and any other node-dump column.
+moment when the dump has them. Point data: id, type, any other node-dump column, and with the
+data file the displacement (x - x of the data file, a vector for ParaView's Warp By Vector).
+
+Every punch and impact case writes two series at its end (``write_case_series``, from the frames
+of inputs/include/frames.in): CASE/CASE.pvd (the net, frames in CASE/CASE/) and CASE/CASE_body.pvd
+(the loading body as triangles, frames in CASE/CASE_body/).
 """
 
+import contextlib
 import os
 import re
 from xml.sax.saxutils import quoteattr
@@ -26,12 +32,18 @@ def bond_keys(first, second):
     return (np.minimum(first, second) << 32) | np.maximum(first, second)
 
 
-def write_mesh(path, points, cells, point_data, cell_data, binary=True, label=None):
-    """Write one .vtu atomically with meshio (cells: (n, 2) point indices of line cells);
-    ``label``: the name errors give (the final path of a frame written in a temporary folder)."""
+CELL_WIDTH = {"line": 2, "triangle": 3}
+
+
+def write_mesh(path, points, cells, point_data, cell_data, binary=True, label=None,
+               cell_type="line"):
+    """Write one .vtu atomically with meshio (cells: (n, 2) point indices of line cells, or
+    (n, 3) of triangles with ``cell_type="triangle"``); ``label``: the name errors give (the
+    final path of a frame written in a temporary folder)."""
     import meshio
+    width = CELL_WIDTH[cell_type]
     mesh = meshio.Mesh(points=np.asarray(points, dtype=float),
-                       cells=[("line", np.asarray(cells, dtype=np.int64).reshape(-1, 2))],
+                       cells=[(cell_type, np.asarray(cells, dtype=np.int64).reshape(-1, width))],
                        point_data=point_data,
                        cell_data={name: [value] for name, value in cell_data.items()})
     with atomic_path(path, ".vtu", label) as tmp:
@@ -122,6 +134,139 @@ def frame_name_pattern(stem):
     return re.compile(re.escape(stem) + r"_\d{10}\.vtu")
 
 
+def write_series(pvd, bond_paths, node_paths, dt, data=None, binary=True, outputs=None):
+    """The series PVD (.pvd) with its frames folder from bond and node dumps: one .vtu per bond
+    frame, time = step x dt. ``data``: a read_data() result (broken bonds and displacements are
+    taken against it), else the first frame's bonds are the reference. The folder and the .pvd
+    are committed with ``outputs`` (output.Outputs), or at once; on any error neither is created
+    or changed. Returns [(time, relative frame path)]."""
+    if not dt > 0:
+        raise PostprocessError(f"--dt must be positive, got {dt}")
+    pvd, folder = series_paths(pvd)
+    stem = os.path.basename(folder)
+    ours = frame_name_pattern(stem)
+    nodes = dumps.NodeSeries(node_paths)
+    reference = Reference.from_data(data) if data is not None else None
+    origin = None
+    if data is not None:
+        order = np.argsort(data.atom_ids, kind="stable")
+        origin = (data.atom_ids[order], data.atoms[order, 2:5])
+    entries = {}
+    with Outputs() if outputs is None else contextlib.nullcontext(outputs) as out:
+        tmp = out.directory(folder, replaceable=lambda name: ours.fullmatch(name))
+        pvd_tmp = out.file(pvd)
+        for frame in dumps.iter_files(bond_paths):
+            mapping = dumps.bond_column_map(frame)
+            dumps.require_columns(frame, mapping, ("atom1", "atom2", "type", "tension"),
+                                  "needed by vtu")
+            if reference is None:
+                reference = Reference.from_frame(frame, mapping)
+            at_step = nodes.at_step(frame.step, frame.path, frame.header_line)
+            points, cells, point_data, cell_data = frame_arrays(frame, mapping, at_step,
+                                                                reference)
+            if origin is not None and np.array_equal(origin[0], at_step.ids):
+                point_data["displacement"] = points - origin[1]
+            name = f"{stem}_{frame.step:010d}.vtu"
+            write_mesh(os.path.join(tmp, name), points, cells, point_data, cell_data,
+                       binary=binary, label=os.path.join(folder, name))
+            entries[frame.step] = f"{stem}/{name}"
+        series = [(step * dt, entries[step]) for step in sorted(entries)]
+        with open(pvd_tmp, "w", encoding="utf-8") as handle:
+            handle.write(pvd_text(series))
+    return series
+
+
+_STL_STEP = re.compile(r"(\d+)\.stl$")
+
+
+def read_stl(path):
+    """Points (unique) and triangles of an ASCII STL (e.g. one frame of dump mesh/stl)."""
+    vertices = []
+    try:
+        with open(path, encoding="utf-8", errors="replace") as handle:
+            for number, line in enumerate(handle, 1):
+                fields = line.split()
+                if fields and fields[0] == "vertex":
+                    try:
+                        vertices.append([float(v) for v in fields[1:4]])
+                    except ValueError:
+                        raise PostprocessError(f"{path}:{number}: expected a vertex x y z, got "
+                                               f"'{line.strip()}'") from None
+    except OSError as exc:
+        raise PostprocessError(f"{path}: cannot read: {exc.strerror or exc}") from None
+    vertices = np.asarray(vertices, float).reshape(-1, 3)
+    if len(vertices) % 3 or not np.all(np.isfinite(vertices)):
+        raise PostprocessError(f"{path}: not a complete ASCII STL of finite numbers")
+    points, inverse = np.unique(vertices, axis=0, return_inverse=True)
+    return points, inverse.reshape(-1, 3)
+
+
+def write_body_series(pvd, stl_paths, dt, binary=True, outputs=None):
+    """The loading body's series from per-step STL files (NAME_STEP.stl of dump mesh/stl):
+    triangles, point data id; time = step x dt. Returns [(time, relative frame path)]."""
+    pvd, folder = series_paths(pvd)
+    stem = os.path.basename(folder)
+    ours = frame_name_pattern(stem)
+    steps = {}
+    for path in stl_paths:
+        match = _STL_STEP.search(os.path.basename(path))
+        if not match:
+            raise PostprocessError(f"{path}: expected a file name ending in _STEP.stl")
+        steps[int(match.group(1))] = path
+    entries = {}
+    with Outputs() if outputs is None else contextlib.nullcontext(outputs) as out:
+        tmp = out.directory(folder, replaceable=lambda name: ours.fullmatch(name))
+        pvd_tmp = out.file(pvd)
+        for step in sorted(steps):
+            points, triangles = read_stl(steps[step])
+            name = f"{stem}_{step:010d}.vtu"
+            write_mesh(os.path.join(tmp, name), points, triangles, {}, {}, binary=binary,
+                       label=os.path.join(folder, name), cell_type="triangle")
+            entries[step] = f"{stem}/{name}"
+        series = [(step * dt, entries[step]) for step in sorted(entries)]
+        with open(pvd_tmp, "w", encoding="utf-8") as handle:
+            handle.write(pvd_text(series))
+    return series
+
+
+def case_series_paths(case_dir):
+    """CASE/CASE.pvd (the net) and CASE/CASE_body.pvd (the loading body) of a case folder."""
+    case_dir = os.path.normpath(str(case_dir))
+    name = os.path.basename(case_dir)
+    return os.path.join(case_dir, f"{name}.pvd"), os.path.join(case_dir, f"{name}_body.pvd")
+
+
+def write_case_series(case_dir, workdir, data_path, dt):
+    """The ParaView series of a punch or impact case from its run's frames (WORKDIR/frames/ of
+    inputs/include/frames.in), both or neither: CASE/CASE.pvd + CASE/CASE/ (the net) and
+    CASE/CASE_body.pvd + CASE/CASE_body/ (the platter or block). Returns the two .pvd paths."""
+    frames = os.path.join(workdir, "frames")
+    net_pvd, body_pvd = case_series_paths(case_dir)
+    stls = [os.path.join(frames, n) for n in os.listdir(frames) if _STL_STEP.search(n)] \
+        if os.path.isdir(frames) else []
+    with Outputs() as outputs:
+        write_series(net_pvd, [os.path.join(frames, "bonds.dump")],
+                     [os.path.join(frames, "nodes.dump")], dt, read_data(data_path),
+                     outputs=outputs)
+        written = [net_pvd]
+        if stls:
+            write_body_series(body_pvd, stls, dt, outputs=outputs)
+            written.append(body_pvd)
+    return written
+
+
+def read_pvd(path):
+    """[(time, absolute .vtu path)] of a .pvd collection, in file order."""
+    import xml.etree.ElementTree as ElementTree
+    try:
+        root = ElementTree.parse(path).getroot()
+    except (OSError, ElementTree.ParseError) as exc:
+        raise PostprocessError(f"{path}: cannot read the series: {exc}") from None
+    folder = os.path.dirname(os.path.abspath(path))
+    return [(float(d.get("timestep")), os.path.join(folder, d.get("file")))
+            for d in root.iter("DataSet")]
+
+
 def run(args):
     """The ``vtu`` subcommand.
 
@@ -131,29 +276,8 @@ def run(args):
     if not args.dt > 0:
         raise PostprocessError(f"--dt must be positive, got {args.dt}")
     pvd, folder = series_paths(args.out)
-    stem = os.path.basename(folder)
-    ours = frame_name_pattern(stem)
-    nodes = dumps.NodeSeries(args.nodes)
-    reference = Reference.from_data(read_data(args.data)) if args.data else None
-    entries = {}
-    with Outputs() as outputs:
-        tmp = outputs.directory(folder, replaceable=lambda name: ours.fullmatch(name))
-        pvd_tmp = outputs.file(pvd)
-        for frame in dumps.iter_files(args.bonds):
-            mapping = dumps.bond_column_map(frame)
-            dumps.require_columns(frame, mapping, ("atom1", "atom2", "type", "tension"),
-                                  "needed by vtu")
-            if reference is None and not args.data:
-                reference = Reference.from_frame(frame, mapping)
-            at_step = nodes.at_step(frame.step, frame.path, frame.header_line)
-            arrays = frame_arrays(frame, mapping, at_step, reference)
-            name = f"{stem}_{frame.step:010d}.vtu"
-            write_mesh(os.path.join(tmp, name), *arrays, binary=not args.ascii,
-                       label=os.path.join(folder, name))
-            entries[frame.step] = f"{stem}/{name}"
-        series = [(step * args.dt, entries[step]) for step in sorted(entries)]
-        with open(pvd_tmp, "w", encoding="utf-8") as handle:
-            handle.write(pvd_text(series))
+    data = read_data(args.data) if args.data else None
+    series = write_series(pvd, args.bonds, args.nodes, args.dt, data, binary=not args.ascii)
     print(f"wrote {pvd}: {len(series)} frames in {folder}/")
 
 

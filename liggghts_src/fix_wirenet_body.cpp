@@ -423,7 +423,12 @@ void FixWirenetBody::compute_contacts(bool advance)
       if (advance) hist[i][3] = hist[i][0] = hist[i][1] = hist[i][2] = 0.0;
       continue;
     }
-    shape->query(R.transpose() * rel, sp);
+    const Vector3d local = R.transpose() * rel;
+    if (shape->distance_bound(local) >= r) {
+      if (advance) hist[i][3] = hist[i][0] = hist[i][1] = hist[i][2] = 0.0;
+      continue;
+    }
+    shape->query(local, sp);
     const double delta = r - sp.dist;
     if (!(delta > 0.0)) {
       if (advance) hist[i][3] = hist[i][0] = hist[i][1] = hist[i][2] = 0.0;

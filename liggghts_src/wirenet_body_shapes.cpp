@@ -54,16 +54,40 @@ double robust_length(double a, double b, double c)
   return m * std::sqrt(x * x + y * y + z * z);
 }
 
-// Root s of (r0 z0/(s + r0))^2 + (z1/(s + 1))^2 = 1 by bisection (Eberly, GetRoot 2-D).
-double root2(double r0, double z0, double z1, double g)
+// Root s of F(s) = sum_k (n_k / (s + r_k))^2 - 1 (k < m, r_{m-1} = 1) on Eberly's bracket.
+// F is convex and decreasing for s > -1; every term alone bounds the root from below
+// (s >= |n_k| - r_k), so Newton's method started at the largest of these bounds, where F >= 0,
+// climbs monotonically to the root (quadratically near it) and stops when a step makes no
+// progress. A step beyond the upper end of the bracket falls back to bisection; if Newton has
+// not converged after 100 steps, Eberly's bisection finishes the job (it cannot fail).
+template <int M>
+double root(const double *r, const double *n, double s0, double s1)
 {
-  const double n0 = r0 * z0;
-  double s0 = z1 - 1.0, s1 = g < 0.0 ? 0.0 : robust_length(n0, z1) - 1.0, s = 0.0;
+  double lo = s0;
+  for (int k = 0; k < M; k++) lo = std::max(lo, std::fabs(n[k]) - r[k]);
+  double s = lo;
+  for (int it = 0; it < 100; it++) {
+    double f = -1.0, df = 0.0;
+    for (int k = 0; k < M; k++) {
+      const double q = n[k] / (s + r[k]);
+      f += q * q;
+      df -= 2.0 * q * q / (s + r[k]);
+    }
+    if (f == 0.0) return s;
+    const double next = s - f / df;
+    // converged: no progress beyond round-off (s + 1 > 0 is the scale of every s + r_k)
+    if (!(next - s > 4.0 * std::numeric_limits<double>::epsilon() * (s + 1.0))) return next > s ? next : s;
+    s = next < s1 ? next : 0.5 * (s + s1);
+  }
+  s0 = lo;
   for (int i = 0; i < MAX_BISECTION; i++) {
     s = 0.5 * (s0 + s1);
     if (s == s0 || s == s1) break;
-    const double q0 = n0 / (s + r0), q1 = z1 / (s + 1.0);
-    g = q0 * q0 + q1 * q1 - 1.0;
+    double g = -1.0;
+    for (int k = 0; k < M; k++) {
+      const double q = n[k] / (s + r[k]);
+      g += q * q;
+    }
     if (g > 0.0) s0 = s;
     else if (g < 0.0) s1 = s;
     else break;
@@ -71,21 +95,18 @@ double root2(double r0, double z0, double z1, double g)
   return s;
 }
 
-// The same in 3-D (Eberly, GetRoot 3-D).
+// Eberly's GetRoot in 2-D: (r0 z0/(s + r0))^2 + (z1/(s + 1))^2 = 1.
+double root2(double r0, double z0, double z1, double g)
+{
+  const double r[2] = { r0, 1.0 }, n[2] = { r0 * z0, z1 };
+  return root<2>(r, n, z1 - 1.0, g < 0.0 ? 0.0 : robust_length(n[0], z1) - 1.0);
+}
+
+// The same in 3-D.
 double root3(double r0, double r1, double z0, double z1, double z2, double g)
 {
-  const double n0 = r0 * z0, n1 = r1 * z1;
-  double s0 = z2 - 1.0, s1 = g < 0.0 ? 0.0 : robust_length(n0, n1, z2) - 1.0, s = 0.0;
-  for (int i = 0; i < MAX_BISECTION; i++) {
-    s = 0.5 * (s0 + s1);
-    if (s == s0 || s == s1) break;
-    const double q0 = n0 / (s + r0), q1 = n1 / (s + r1), q2 = z2 / (s + 1.0);
-    g = q0 * q0 + q1 * q1 + q2 * q2 - 1.0;
-    if (g > 0.0) s0 = s;
-    else if (g < 0.0) s1 = s;
-    else break;
-  }
-  return s;
+  const double r[3] = { r0, r1, 1.0 }, n[3] = { r0 * z0, r1 * z1, z2 };
+  return root<3>(r, n, z2 - 1.0, g < 0.0 ? 0.0 : robust_length(n[0], n[1], z2) - 1.0);
 }
 
 // Nearest point of the segment [a, b] to p (2-D or 3-D).
@@ -213,6 +234,13 @@ double EllipsoidShape::distance_sorted(const double e[3], const double y[3], dou
   }
   x[2] = 0.0;
   return distance_sorted_2d(e[0], e[1], y[0], y[1], x[0], x[1]);
+}
+
+double EllipsoidShape::distance_bound(const Vector3d &p) const
+{
+  double g = 0.0;
+  for (int j = 0; j < 3; j++) g += (p[j] / axes_[j]) * (p[j] / axes_[j]);
+  return g > 1.0 ? (std::sqrt(g) - 1.0) * e_[2] : -std::numeric_limits<double>::infinity();
 }
 
 void EllipsoidShape::query(const Vector3d &p, SurfacePoint &out) const
@@ -435,6 +463,13 @@ bool PolyhedronShape::unit_inertia(Matrix3d &I) const
 {
   I = second_moment_.trace() * Matrix3d::Identity() - second_moment_;
   return true;
+}
+
+double PolyhedronShape::distance_bound(const Vector3d &p) const
+{
+  double smax = -std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < normal_.size(); k++) smax = std::max(smax, normal_[k].dot(p) - offset_[k]);
+  return smax;
 }
 
 void PolyhedronShape::query(const Vector3d &p, SurfacePoint &out) const

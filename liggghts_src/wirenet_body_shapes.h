@@ -11,6 +11,7 @@
 #define WIRENET_BODY_SHAPES_H
 
 #include <Eigen/Dense>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,8 @@ class BodyShape {
   virtual void query(const Eigen::Vector3d &p, SurfacePoint &out) const = 0;
   // radius of a sphere about the local origin that contains the body (infinite for a plane)
   virtual double bounding_radius() const = 0;
+  // a cheap lower bound of the signed distance of p (a pre-test before query)
+  virtual double distance_bound(const Eigen::Vector3d &) const { return -std::numeric_limits<double>::infinity(); }
   // true if the local origin is the centroid (a free body rotates about it)
   virtual bool centred() const { return true; }
   // inertia tensor of the uniform solid per unit mass about the local origin, local axes;
@@ -55,6 +58,9 @@ class EllipsoidShape : public BodyShape {
   EllipsoidShape(double a, double b, double c);
   void query(const Eigen::Vector3d &p, SurfacePoint &out) const;
   double bounding_radius() const { return e_[0]; }
+  // p on the ellipsoid scaled by k = sqrt(sum (p_i/a_i)^2) > 1 is at least (k - 1) min(a) away,
+  // since the ball of that radius fits in (k - 1) times the ellipsoid
+  double distance_bound(const Eigen::Vector3d &p) const;
   bool unit_inertia(Eigen::Matrix3d &I) const;
   std::string name() const { return "spheroid"; }
   // Eberly's algorithm in the sorted frame: e0 >= e1 >= e2 > 0, y >= 0 componentwise; returns
@@ -111,6 +117,7 @@ class PolyhedronShape : public BodyShape {
   static PolyhedronShape truncated_cube(double side, double cut);
   void query(const Eigen::Vector3d &p, SurfacePoint &out) const;
   double bounding_radius() const { return bound_; }
+  double distance_bound(const Eigen::Vector3d &p) const;  // the largest height above a face plane
   bool centred() const { return centred_; }
   bool unit_inertia(Eigen::Matrix3d &I) const;
   std::string name() const { return name_; }

@@ -266,6 +266,16 @@ def _study_figures(directory, cases, outputs):
                         for c, _ in series}
             written[name] = figure_zone(series, os.path.join(out, name), x, families, title,
                                         ruptures, outputs)
+    # Figure 4: the deformed net at the peak, one per punch / calibration / impact case that
+    # wrote its ParaView series (figure4.py)
+    from . import figure4
+    for case in cases.values():
+        if case.usable and figure4.has_series(case):
+            name = f"fig4_{case.name}"
+            try:
+                written[name] = figure4.figure_case(case, os.path.join(out, name), outputs)
+            except PostprocessError as exc:
+                print(f"postprocess: warning: {name} skipped: {exc}", file=sys.stderr)
     return written
 
 

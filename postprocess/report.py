@@ -408,6 +408,14 @@ def markdown(directory, summaries, claims, missing, figures):
     for name, paths in figures.items():
         png = os.path.relpath(paths[0], directory)
         lines += [f"![{name}]({png})", ""]
+        if name.startswith("fig4_"):
+            case = name[len("fig4_"):]
+            lines += [f"Figure 4, {case}: the deformed net at its peak (punch: the frame nearest "
+                      "the peak platter force before the first rupture; impact: the block's "
+                      "lowest point), bonds coloured by tension, grey slack or compressed, red "
+                      "crosses broken bonds. All frames for ParaView: "
+                      f"`{case}/{case}.pvd` (net) and `{case}/{case}_body.pvd` (loading body).",
+                      ""]
     if not figures:
         lines.append("No figures.")
     return "\n".join(lines) + "\n"

@@ -4,11 +4,13 @@ import json
 import sys
 from pathlib import Path
 
+import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from postprocess.__main__ import main  # noqa: E402
 from postprocess import report as report_module  # noqa: E402
+from test_figure4 import make_case, write_series  # noqa: E402
 
 FIGURES = ("fig1_beam", "fig2_calibration", "fig3_punch", "fig5_impact_hex",
            "fig6_impact_square")
@@ -89,6 +91,19 @@ def report(root, figures=False):
     return summary, (root / "report.md").read_text()
 
 
+def assert_drawn(png):
+    """A PNG with a picture in it, not only a valid signature: decodable, not blank (pixel
+    spread), with ink on a fair part of the page and some colour (the curves)."""
+    from matplotlib import image
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    pixels = image.imread(str(png))[..., :3]
+    assert pixels.shape[0] > 300 and pixels.shape[1] > 300, pixels.shape
+    assert pixels.std() > 0.05, f"{png}: blank"
+    assert np.mean(pixels.min(axis=2) < 0.9) > 0.01, f"{png}: almost no ink"
+    colour = pixels.max(axis=2) - pixels.min(axis=2) > 0.3
+    assert colour.sum() > 500, f"{png}: no coloured curve"
+
+
 def verdicts(summary):
     return [(c["verdict"], c["supported"]) for c in summary["claims"]]
 
@@ -99,7 +114,7 @@ def test_full_report_with_figures(tmp_path):
         for ext in ("png", "svg"):
             path = tmp_path / "figures" / f"{name}.{ext}"
             assert path.stat().st_size > 1000, path
-        assert (tmp_path / "figures" / f"{name}.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+        assert_drawn(tmp_path / "figures" / f"{name}.png")
         assert "<svg" in (tmp_path / "figures" / f"{name}.svg").read_text()[:2000]
         assert f"![{name}](figures/{name}.png)" in text
     assert verdicts(summary) == [("supported", True)] * 3
@@ -212,7 +227,7 @@ def test_plot_subcommands(tmp_path):
                  "--families", "DT", "SW", "--labels", "hex", "compound",
                  "-o", str(out / "punch")]) == 0
     for name in ("beam", "calib", "punch"):
-        assert (out / f"{name}.png").read_bytes()[:4] == b"\x89PNG"
+        assert_drawn(out / f"{name}.png")
         assert (out / f"{name}.svg").stat().st_size > 1000
 
 
@@ -267,3 +282,18 @@ def test_quick_cases_are_named_in_the_table_and_the_verdicts(tmp_path):
     assert summary["claims"][2]["verdict"] == "supported" + report_module.QUICK_NOTE
     # claims 1 and 2 rest on the hex cases, none of them quick
     assert [c["verdict"] for c in summary["claims"][:2]] == ["supported", "supported"]
+
+
+def test_report_shows_figure4_for_each_case_with_a_series(tmp_path):
+    """Figure 4 (the deformed net at the peak) of every punch / impact case whose folder holds its
+    ParaView series, in figures/ and in report.md, drawn (not blank)."""
+    for name in ("impact_hex", "punch_hex"):
+        write_series(make_case(tmp_path, name, "impact" if name.startswith("impact") else "punch"))
+    summary, text = report(make_study(tmp_path), figures=True)
+    for name in ("fig4_impact_hex", "fig4_punch_hex"):
+        assert_drawn(tmp_path / "figures" / f"{name}.png")
+        assert f"![{name}](figures/{name}.png)" in text
+        assert summary["figures"][name] == [f"figures/{name}.png", f"figures/{name}.svg"]
+    assert "`impact_hex/impact_hex.pvd` (net)" in text
+    # cases without a series (impact_square, impact_compound, ...) get no Figure 4
+    assert "fig4_impact_square" not in summary["figures"]

@@ -404,6 +404,37 @@ def test_one_and_two_ranks_agree(tmp_path):
     assert (touched[:, 1] < 0).any() and (touched[:, 1] > 0).any(), touched[:, :4]
 
 
+def drag_deck(extra_header=""):
+    """Six nodes at rest (z held by setforce) on a plane that slides along +x at 1 m/s: static
+    friction (the spring stays below mu Fn) drags them along, and they oscillate about the plane's
+    velocity on the tangential springs (rolling at about 2/7 of it) while they cross x = 0, where
+    two ranks cut the box."""
+    deck = header(0.5, extra_header)
+    for k in range(6):
+        deck += node(k + 1, (-0.015 + 0.002 * k, 0.025 * k - 0.06, 0.01 - 0.001), 0.01)
+    deck += ("fix integ all nve/sphere\n"
+             "fix p all wirenet/body plane kn 1e5 kt 1e4 mu 0.5 vel 1 0 0\n"
+             "fix hold all setforce NULL NULL 0\n"
+             "variable x1 equal x[1]\nvariable x6 equal x[6]\nvariable v1 equal vx[1]\n"
+             "timestep 1e-5\n" + thermo(["p"], 100, "v_x1 v_x6 v_v1") + "run 9000\n")
+    return deck
+
+
+def test_friction_history_migrates_between_ranks(tmp_path):
+    one = rows_of(lmp.run_deck(drag_deck(), tmp_path / "np1"), ["p"])
+    two = rows_of(lmp.run_deck(drag_deck("processors 2 1 1"), tmp_path / "np2", np=2), ["p"])
+    assert all(r["p"]["n"] == 6 for r in one)            # every node stays in contact
+    assert one[0]["x6"] < 0.0 < one[-1]["x1"]             # all of them crossed the cut (migrated)
+    # sticking: the spring force stays below mu Fn, the nodes oscillate about the plane's speed
+    assert max(abs(r["p"]["fx"]) for r in one) < 0.9 * 0.5 * 6 * 1e5 * 1e-3
+    assert min(r["v1"] for r in one[10:]) > 0.0
+    for a, b in zip(one, two):
+        for key in ("fx", "fy", "fz", "tx", "ty", "tz", "w_nodes", "w_body", "e_el"):
+            x, y = a["p"][key], b["p"][key]
+            assert y == pytest.approx(x, rel=1e-9, abs=1e-12), (a["step"], key)
+        assert b["x1"] == pytest.approx(a["x1"], rel=1e-12) and b["v1"] == pytest.approx(a["v1"], rel=1e-9)
+
+
 def test_restart_continues_the_trajectory(tmp_path):
     """Without viscous damping: a restarted run recomputes the setup forces with the velocities at
     the end of the step, where the running one had the half-step velocities (LIGGGHTS' own

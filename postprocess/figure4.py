@@ -194,6 +194,8 @@ def draw(data):
     ax.set_ylim(centre[1] - span[1] / 2, centre[1] + span[1] / 2)
     ax.set_zlim(centre[2] - span[2] / 2, centre[2] + span[2] / 2)
     ax.set_box_aspect(tuple(span))          # equal scaling: 1 m is as long on every axis
+    from matplotlib.ticker import MaxNLocator
+    ax.zaxis.set_major_locator(MaxNLocator(max(2, min(6, int(8 * span[2] / span.max())))))
     ax.view_init(elev=25, azim=-60)
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")

@@ -302,6 +302,22 @@ def test_kinematic_body_follows_its_prescribed_motion(tmp_path):
 
 # ---- free body ------------------------------------------------------------------------------
 
+def test_default_inertia_of_the_truncated_cube(tmp_path):
+    """Without 'inertia' a free body has the inertia of its uniform solid: the truncated cube of
+    wirenet-gen (0.45 m, cut 0.15 m, 44.5 kg) has I = 1.41345292207792 kg m2 on every axis
+    (doc/wirenet-gen.md); torque-free, tilted, it spins at constant omega with KE = I w^2 / 2."""
+    w = np.array([1.0, -2.0, 3.0])
+    deck = (header(2.0) + node(1, (1.5, 1.5, 1.5), 0.01) +
+            f"fix b all wirenet/body truncated-cube 0.45 0.15 axis 1 2 3 kn 1e6 mass 44.5 omega {w[0]} {w[1]} {w[2]}\n"
+            "timestep 1e-4\n" + thermo(["b"], 100) + "run 300\n")
+    rows = rows_of(lmp.run_deck(deck, tmp_path), ["b"])
+    for r in rows:
+        assert r["b"]["ke"] == pytest.approx(0.5 * 1.41345292207792 * np.dot(w, w), rel=1e-12)
+        assert np.allclose(vec(r["b"], "wx", "wy", "wz"), w, rtol=1e-12)
+    q = vec(rows[-1]["b"], "qw", "qx", "qy", "qz")
+    assert np.allclose(q, axis_angle(w, np.linalg.norm(w) * 300 * 1e-4), atol=1e-12)
+
+
 def drop_deck(steps, gamma=0.0, mu=0.0, nodes_free=True, extra=""):
     """A free sphere (R 0.1 m, 1 kg) falls at 1 m/s onto four node spheres (33 g each) below it."""
     r = 0.01

@@ -72,9 +72,9 @@ BAD_DATA = {
     "atom ID listed twice": (with_atom(3, id=2), [(1, 1, 1, 2), (2, 1, 2, 4)],
                              "read_data: atom ID 2 is listed twice in the Atoms section (its lines 2 and 3)"),
     "bond listed twice": (ATOMS, BONDS + [(4, 1, 2, 3)],
-                          "read_data: bond between atoms 2 and 3 is listed twice (bonds 2 and 4)"),
+                          "read_data: the bond between atoms 2 and 3 is listed twice (bonds 2 and 4)"),
     "bond listed twice in reverse order": (ATOMS, BONDS + [(4, 1, 3, 2)],
-                                           "read_data: bond between atoms 2 and 3 is listed twice (bonds 2 and 4)"),
+                                           "read_data: the bond between atoms 2 and 3 is listed twice (bonds 2 and 4)"),
     "bond to an atom ID beyond the largest": (ATOMS, [(1, 1, 1, 2), (2, 1, 2, 9)],
                                               "read_data: bond 2 names atom 9, which is not in the Atoms section"),
     "bond to a missing atom ID": (with_atom(3, id=5), [(1, 1, 1, 2), (2, 1, 2, 3)],
@@ -149,7 +149,7 @@ def test_good_data_file_still_reads(tmp_path):
 # (1, 4) / (4, 1) and the missing atom are found by one rank and reported once, by rank 0.
 MPI_CASES = {
     "bond listed twice across ranks": (ATOMS, BONDS + [(4, 1, 4, 1), (5, 1, 1, 4)],
-                                       "read_data: bond between atoms 1 and 4 is listed twice (bonds 4 and 5)"),
+                                       "read_data: the bond between atoms 1 and 4 is listed twice (bonds 4 and 5)"),
     "bond to a missing atom": (with_atom(3, id=5), [(1, 1, 1, 2), (2, 1, 2, 3)],
                                "read_data: bond 2 names atom 3, which is not in the Atoms section"),
     "atom ID listed twice across ranks": (with_atom(4, id=1), [(1, 1, 1, 2)],

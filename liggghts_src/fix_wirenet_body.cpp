@@ -9,6 +9,7 @@
    Every rank holds the whole body state and integrates it identically. */
 
 #include "fix_wirenet_body.h"
+#include "wirenet_fix_args.h"
 
 #include <cerrno>
 #include <cmath>
@@ -36,49 +37,14 @@ using Eigen::Vector3d;
 
 namespace {
 
+using WireNet::FixArgs::number;
+using WireNet::FixArgs::text;
+using WireNet::FixArgs::value;
+using WireNet::FixArgs::vector3;
+namespace FixArgs = WireNet::FixArgs;
+
 const int NHIST = 4;      // tangential spring x y z, in contact
 const int NRESTART = 36;
-
-// shortest text that reads back as v
-std::string text(double v)
-{
-  char buf[64];
-  for (int digits = 6; digits <= 17; digits++) {
-    snprintf(buf, sizeof buf, "%.*g", digits, v);
-    if (strtod(buf, NULL) == v) break;
-  }
-  return buf;
-}
-
-double number(const char *s, const std::string &what)
-{
-  char *end = NULL;
-  errno = 0;
-  const double v = strtod(s, &end);
-  if (errno || end == s || *end != '\0' || !std::isfinite(v))
-    throw std::invalid_argument(what + " must be a finite number (got '" + s + "')");
-  return v;
-}
-
-// value of keyword arg[k], checked; k advances past it
-double value(int narg, char **arg, int &k, const std::string &key, double lo, bool lo_open)
-{
-  if (k + 1 >= narg) throw std::invalid_argument("'" + key + "' needs a value");
-  const double v = number(arg[k + 1], key);
-  if (lo_open ? !(v > lo) : !(v >= lo))
-    throw std::invalid_argument(key + " must be " + (lo_open ? "> " : ">= ") + text(lo) + " (got " + arg[k + 1] + ")");
-  k += 2;
-  return v;
-}
-
-Vector3d vector3(int narg, char **arg, int &k, const std::string &key)
-{
-  if (k + 3 >= narg) throw std::invalid_argument("'" + key + "' needs 3 values");
-  Vector3d r;
-  for (int d = 0; d < 3; d++) r[d] = number(arg[k + 1 + d], key + " value");
-  k += 4;
-  return r;
-}
 
 bool is_number(const char *s)
 {
@@ -295,14 +261,8 @@ void FixWirenetBody::parse(int narg, char **arg)
     } else if (key == "mass") {
       mass = value(narg, arg, k, key, 0.0, true);
     } else if (key == "inertia") {
-      if (k + 6 >= narg) throw std::invalid_argument("'inertia' needs 6 values: Ixx Iyy Izz Ixy Ixz Iyz");
-      double c[6];
-      for (int d = 0; d < 6; d++) c[d] = number(arg[k + 1 + d], "inertia value");
-      inertia << c[0], c[3], c[4],
-                 c[3], c[1], c[5],
-                 c[4], c[5], c[2];
+      inertia = FixArgs::inertia(narg, arg, k);
       have_inertia = true;
-      k += 7;
     } else if (key == "gravity") {
       gravity = vector3(narg, arg, k, key);
       have_gravity = true;

@@ -8,6 +8,7 @@
    moves its own and ghost triangles identically; only the contact sums are reduced. */
 
 #include "fix_wirenet_rigidmesh.h"
+#include "wirenet_fix_args.h"
 
 #include <cerrno>
 #include <cmath>
@@ -33,26 +34,10 @@ using Eigen::Vector3d;
 
 namespace {
 
+using WireNet::FixArgs::vector3;
+namespace FixArgs = WireNet::FixArgs;
+
 const int NRESTART = 22;
-
-double number(const char *s, const std::string &what)
-{
-  char *end = NULL;
-  errno = 0;
-  const double v = strtod(s, &end);
-  if (errno || end == s || *end != '\0' || !std::isfinite(v))
-    throw std::invalid_argument(what + " must be a number (got '" + s + "')");
-  return v;
-}
-
-Vector3d vector3(int narg, char **arg, int &k, const std::string &key)
-{
-  if (k + 3 >= narg) throw std::invalid_argument("'" + key + "' needs 3 values");
-  Vector3d r;
-  for (int d = 0; d < 3; d++) r[d] = number(arg[k + 1 + d], key + " value");
-  k += 4;
-  return r;
-}
 
 std::string fmt(double v)
 {
@@ -113,19 +98,10 @@ void FixWirenetRigidMesh::parse(int narg, char **arg, Vector3d &com, bool &have_
       mesh_id = arg[k + 1];
       k += 2;
     } else if (key == "mass") {
-      if (k + 1 >= narg) throw std::invalid_argument("'mass' needs a value");
-      mass = number(arg[k + 1], "mass");
-      if (!(mass > 0.0)) throw std::invalid_argument(std::string("mass must be > 0 (got ") + arg[k + 1] + ")");
-      k += 2;
+      mass = FixArgs::value(narg, arg, k, key, 0.0, true);
     } else if (key == "inertia") {
-      if (k + 6 >= narg) throw std::invalid_argument("'inertia' needs 6 values: Ixx Iyy Izz Ixy Ixz Iyz");
-      double c[6];
-      for (int d = 0; d < 6; d++) c[d] = number(arg[k + 1 + d], "inertia value");
-      inertia << c[0], c[3], c[4],
-                 c[3], c[1], c[5],
-                 c[4], c[5], c[2];
+      inertia = FixArgs::inertia(narg, arg, k);
       have_inertia = true;
-      k += 7;
     } else if (key == "com") {
       com = vector3(narg, arg, k, key);
       have_com = true;

@@ -213,20 +213,20 @@ def write_cube(path, h=0.2):
 
 BODY = "mesh block mass 44.5 inertia 1.4 1.4 1.4 0 0 0"
 BAD_RIGIDMESH = {
-    "mass inf": ("mesh block mass inf inertia 1 1 1 0 0 0", "fix wirenet/rigidmesh: mass must be a number (got 'inf')"),
-    "mass nan": ("mesh block mass nan inertia 1 1 1 0 0 0", "fix wirenet/rigidmesh: mass must be a number (got 'nan')"),
+    "mass inf": ("mesh block mass inf inertia 1 1 1 0 0 0", "fix wirenet/rigidmesh: mass must be a finite number (got 'inf')"),
+    "mass nan": ("mesh block mass nan inertia 1 1 1 0 0 0", "fix wirenet/rigidmesh: mass must be a finite number (got 'nan')"),
     "mass negative": ("mesh block mass -44.5 inertia 1 1 1 0 0 0", "fix wirenet/rigidmesh: mass must be > 0 (got -44.5)"),
     "mass zero": ("mesh block mass 0 inertia 1 1 1 0 0 0", "fix wirenet/rigidmesh: mass must be > 0 (got 0)"),
-    "inertia nan": ("mesh block mass 1 inertia 1 nan 1 0 0 0", "inertia value must be a number (got 'nan')"),
+    "inertia nan": ("mesh block mass 1 inertia 1 nan 1 0 0 0", "inertia value must be a finite number (got 'nan')"),
     "inertia negative": ("mesh block mass 1 inertia -1 -1 -1 0 0 0", "inertia tensor must be positive definite"),
-    "velocity nan": (f"{BODY} vel 0 0 nan", "fix wirenet/rigidmesh: vel value must be a number (got 'nan')"),
-    "velocity -inf": (f"{BODY} vel -inf 0 0", "fix wirenet/rigidmesh: vel value must be a number (got '-inf')"),
+    "velocity nan": (f"{BODY} vel 0 0 nan", "fix wirenet/rigidmesh: vel value must be a finite number (got 'nan')"),
+    "velocity -inf": (f"{BODY} vel -inf 0 0", "fix wirenet/rigidmesh: vel value must be a finite number (got '-inf')"),
     "velocity overflows the energy": (f"{BODY} vel 1e200 0 0",
                                       "'vel 1e+200 0 0' give a non-finite kinetic energy (mass 44.5)"),
-    "omega inf": (f"{BODY} omega 0 inf 0", "fix wirenet/rigidmesh: omega value must be a number (got 'inf')"),
+    "omega inf": (f"{BODY} omega 0 inf 0", "fix wirenet/rigidmesh: omega value must be a finite number (got 'inf')"),
     "omega overflows the energy": (f"{BODY} omega 0 1e200 0", "give a non-finite rotational kinetic energy"),
-    "com nan": (f"{BODY} com nan 0 0", "fix wirenet/rigidmesh: com value must be a number (got 'nan')"),
-    "gravity overflow": (f"{BODY} gravity 0 0 -1e999", "gravity value must be a number (got '-1e999')"),
+    "com nan": (f"{BODY} com nan 0 0", "fix wirenet/rigidmesh: com value must be a finite number (got 'nan')"),
+    "gravity overflow": (f"{BODY} gravity 0 0 -1e999", "gravity value must be a finite number (got '-1e999')"),
     "gravity overflows the weight": ("mesh block mass 1e300 inertia 1e300 1e300 1e300 0 0 0 gravity 0 0 -1e10",
                                      "'gravity 0 0 -1e+10' give a non-finite weight"),
 }

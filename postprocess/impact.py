@@ -29,7 +29,7 @@ from .csvio import read_csv, write_csv
 from .datafile import read_data
 from .errors import PostprocessError
 from .meta import PanelInfo, read_json
-from .model import PAPER_BENDING
+from .model import PAPER_BENDING, ROPE_STRENGTH, rope_strength_keyword
 
 BLOCK = dict(side=0.45, mass=44.5, speed=10.0)
 ALPHA = 0.5            # local damping on the net nodes (paper, dynamic runs)
@@ -61,7 +61,7 @@ class Setup:
 
     def __init__(self, workdir, panel, bending=PAPER_BENDING, quick=False, duration=None, relax=None,
                  mass=BLOCK["mass"], side=BLOCK["side"], speed=BLOCK["speed"], alpha=ALPHA,
-                 procs=None, bond_zeta=0.0):
+                 procs=None, bond_zeta=0.0, rope_strength=False):
         if not (mass > 0 and side > 0 and speed > 0):
             raise PostprocessError(f"impact: mass, side and speed must be > 0 (got {mass}, "
                                    f"{side}, {speed})")
@@ -70,6 +70,7 @@ class Setup:
         if not 0 <= bond_zeta < 10:
             raise PostprocessError(f"impact: bond damping zeta must be in [0, 10) (got {bond_zeta})")
         self.bond_zeta = bond_zeta
+        self.rope_strength = rope_strength   # breakable ropes (materials.in rope_sigma_t/tau_c)
         os.makedirs(workdir, exist_ok=True)
         self.panel, self.bending, self.quick = panel, bending, quick
         self.mass, self.side, self.speed, self.alpha = mass, side, speed, alpha
@@ -116,6 +117,8 @@ class Setup:
             v["procs"] = self.procs
         if self.bond_zeta:
             v["bond_zeta"] = repr(self.bond_zeta)
+        if self.rope_strength:
+            v["rope_strength"] = rope_strength_keyword(True)
         return v
 
 
@@ -307,6 +310,7 @@ def run_case(case_dir, panel, bending=PAPER_BENDING, quick=False, np_=1, **setup
                                                           inertia=setup.block["inertia"]),
                  damping=setup.alpha, bond_damping=setup.bond_zeta,
                  dissipation="bond" if setup.bond_zeta else "local",
+                 rope_strength=list(ROPE_STRENGTH) if setup.rope_strength else None,
                  dt=setup.dt, steps=setup.steps,
                  duration=setup.duration, relax_time=setup.relax_time,
                  relax_steps=setup.relax_steps, nodes=int(len(setup.node_masses)),

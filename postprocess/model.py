@@ -43,3 +43,9 @@ WIRE = {k: MATERIALS[k] for k in ("wire_d", "selvedge_d", "lambda_eps", "lambda_
 ROPE = {k: MATERIALS[k] for k in ("rope_d", "rope_E", "rope_nu", "shear")}
 CONTACT = {k: MATERIALS[k] for k in ("kn", "ks", "mu")}
 PAPER_BENDING = MATERIALS["bending"]    # the calibrated bending fraction of the paper
+ROPE_STRENGTH = (MATERIALS["rope_sigma_t"], MATERIALS["rope_tau_c"])   # [Pa], see materials.in
+
+
+def rope_strength_keyword(enabled):
+    """The rope's bond_coeff tail for a breakable rope ("" keeps the paper's unbreakable one)."""
+    return "strength {!r} {!r}".format(*ROPE_STRENGTH) if enabled else ""

@@ -40,7 +40,8 @@ import time
 import numpy as np
 
 from . import liggghts, vtu, zone
-from .model import CONTACT, PAPER_BENDING, ROPE, SW_CURVE, WIRE
+from .model import (CONTACT, PAPER_BENDING, ROPE, ROPE_STRENGTH, SW_CURVE, WIRE,
+                    rope_strength_keyword)
 from .csvio import read_csv, write_csv
 from .datafile import read_data
 from .errors import PostprocessError
@@ -144,9 +145,10 @@ class Setup:
     """Everything a punch run needs; .variables(speed, out) gives the deck's -var values."""
 
     def __init__(self, workdir, panel, platter, bending=PAPER_BENDING, quick=False, steps_per_m=None,
-                 travel=None, stop_broken=0):
+                 travel=None, stop_broken=0, rope_strength=False):
         os.makedirs(workdir, exist_ok=True)
         self.panel, self.platter, self.bending, self.quick = panel, platter, bending, quick
+        self.rope_strength = rope_strength   # breakable ropes (materials.in rope_sigma_t/tau_c)
         prefix = os.path.join(workdir, "panel")
         options = _panel_options(panel, quick)
         self.data_path = liggghts.generate(options[0], prefix, *options[1:])
@@ -209,6 +211,8 @@ class Setup:
                  gamma_n=repr(self.gamma_n),
                  frame_every=max(int(math.ceil((travel or self.travel) / (speed * self.dt)
                                                / FRAMES)), 1))
+        if self.rope_strength:
+            v["rope_strength"] = rope_strength_keyword(True)
         return v, every
 
     def displacement(self, steps, speed_factor=1.0):
@@ -412,6 +416,18 @@ def first_rupture(setup, workdir, table, families):
                 position=[float(v) for v in rows[0][4:7]])
 
 
+def rope_failure(setup, workdir, families):
+    """How the punch ended for breakable ropes: the travel at the first rope rupture, or None
+    (the travel ended first, or the ropes are unbreakable)."""
+    if not setup.rope_strength:
+        return None
+    rope = {t for t, name in families.items() if name == "rope"}
+    for row in read_ruptures(os.path.join(workdir, "ruptures.dump")):
+        if int(row[3]) in rope:
+            return dict(displacement=float(setup.displacement(row[0])), step=int(row[0]))
+    return None
+
+
 def write_outputs(setup, case_dir, workdir, table, radius=1.0):
     """platter.csv and zone_forces.csv of the run in workdir, into case_dir."""
     write_csv(os.path.join(case_dir, "platter.csv"), ("time", "displacement", "force"),
@@ -452,6 +468,7 @@ def run_case(case_dir, panel, platter, bending=PAPER_BENDING, quick=False, np_=1
     n = rupture_limit(fast)
     eq = equilibrium_error(fast, n)
     rupture = first_rupture(setup, run_dir, fast, families)
+    rope_end = rope_failure(setup, run_dir, families)
     facts = dict(
         panel=panel, platter=platter, bending=bending, platter_shape=PLATTERS[platter],
         speed=PAPER_SPEED, mass_scale=setup.mass_scale, equivalent_speed=setup.equivalent_speed,
@@ -460,6 +477,10 @@ def run_case(case_dir, panel, platter, bending=PAPER_BENDING, quick=False, np_=1
         reached=float(fast["displacement"][-1]),
         peak_force=float(np.max(fast["force"])), preload=preload_facts(run_dir),
         first_rupture=rupture,
+        rope_strength=list(ROPE_STRENGTH) if setup.rope_strength else None,
+        first_rope_rupture=rope_end,
+        ended_by=("end of travel (ropes unbreakable)" if not setup.rope_strength else
+                  "rope failure" if rope_end else "end of travel"),
         quasi_static=dict(
             slow_factor=SLOW_FACTOR, curve_difference=diff["max"],
             curve_difference_with_snaps=diff["max_all"], curve_difference_rms=diff["rms"],

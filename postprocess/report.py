@@ -79,7 +79,8 @@ def case_summary(case):
         summary["beam"] = [dict(zip(study.TABLES["beam"][1], map(float, row)))
                            for row in zip(*(beam[c] for c in study.TABLES["beam"][1]))]
         summary["beam_max_nrmse"] = _peak_abs(beam["nrmse"])
-    for key in ("first_rupture", "edge_force_peak", "wall_time"):
+    for key in ("first_rupture", "edge_force_peak", "wall_time", "ended_by",
+                "first_rope_rupture"):
         summary[key] = case.meta.get(key)
     if case.kind == "impact":
         energy = case.meta.get("energy") or {}
@@ -431,6 +432,12 @@ def markdown(directory, summaries, claims, missing, figures, claims_bond=(), dis
                      "peak block force [N]",
                      "first rupture", "edge-force peak [N]", "wall time [s]"],
                     list(_case_rows(summaries)))
+    endings = [f"- {n}: ended by {s['ended_by']}" +
+               (f" at {fmt(s['first_rope_rupture']['displacement'])} m of platter travel"
+                if s.get("first_rope_rupture") else "")
+               for n, s in summaries.items() if s.get("ended_by")]
+    if endings:
+        lines += ["", "How each punch ended (rope strength: doc/bond_wirenet.md):", ""] + endings
     lines += ["", "## Tension in the central zone (zone_forces.csv)", ""]
     zone_rows = list(_zone_rows(summaries))
     lines += _table(["case", "family", "peak total tension [N]", "at",

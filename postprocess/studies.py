@@ -97,10 +97,10 @@ def calibration_runner(fraction):
     return run_calibration_case
 
 
-def punch_runner(panel):
+def punch_runner(panel, rope_strength=False):
     def run_punch_case(case_dir, quick=False, np_=1):
         return punch.run_case(case_dir, panel, "spheroid", bending=PAPER_BENDING, quick=quick,
-                              np_=np_)
+                              np_=np_, rope_strength=rope_strength)
     return run_punch_case
 
 
@@ -121,6 +121,8 @@ for f in CALIBRATION_FRACTIONS:
     CASES[f"calibration_{f:g}"] = ("calibration", calibration_runner(f))
 for name, panel in (("punch_hex", "hex"), ("punch_compound", "compound")):
     CASES[name] = ("punch", punch_runner(panel))
+# beyond the paper: the compound punch with breakable ropes, to their failure or the travel's end
+CASES["punch_compound_rope"] = ("punch", punch_runner("compound", rope_strength=True))
 for name, panel in (("impact_hex", "hex"), ("impact_square", "square"),
                     ("impact_compound", "compound")):
     CASES[name] = ("impact", impact_runner(panel))

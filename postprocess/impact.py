@@ -1,5 +1,6 @@
 """Block impact cases (paper, section 5): a rigid truncated cube (0.45 m, 44.5 kg, 10 m/s along
--z, undamped, fix wirenet/rigidmesh) hits the centre of a hexagonal, square or compound panel.
+-z, undamped; the generator's STL moved by fix wirenet/rigidmesh, or the exact body of fix
+wirenet/body: ``body_model``, doc/impact.md) hits the centre of a hexagonal, square or compound panel.
 Deck: inputs/impact.in. Beyond the paper, every case gets:
 
 - the force on the edge supports (the posts) as a time series (edges.csv) and its peak;

@@ -487,10 +487,10 @@ void BondWirenet::damp_beams()
   for (int q = 0; q < (int)beam_list.size(); q++) {
     const BeamPair &p = beam_list[q];
     for (int k = 0; k < 2 && 2 * q + k < nbeam; k++) {
-      const BeamConst<double> b = lane(p.c, k);
-      if (b.ca == 0.0 && b.cs == 0.0 && b.cb == 0.0 && b.ct == 0.0) continue;
+      const double ca = p.c.ca[k], cs = p.c.cs[k], cb = p.c.cb[k], ct = p.c.ct[k];
+      if (ca == 0.0 && cs == 0.0 && cb == 0.0 && ct == 0.0) continue;  // undamped type or broken
       const int i = p.i[k], j = p.j[k];
-      damping_work += BeamLaw::damp(b, x + 3 * i, x + 3 * j, v + 3 * i, v + 3 * j, w + 3 * i, w + 3 * j,
+      damping_work += BeamLaw::damp(ca, cs, cb, ct, x + 3 * i, x + 3 * j, v + 3 * i, v + 3 * j, w + 3 * i, w + 3 * j,
                                     f + 3 * i, f + 3 * j, t + 3 * i, t + 3 * j);
     }
   }

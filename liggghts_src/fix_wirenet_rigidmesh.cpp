@@ -11,6 +11,7 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
@@ -52,6 +53,15 @@ Vector3d vector3(int narg, char **arg, int &k, const std::string &key)
   k += 4;
   return r;
 }
+
+std::string fmt(double v)
+{
+  char buf[32];
+  snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
+
+std::string fmt(const Vector3d &v) { return fmt(v[0]) + " " + fmt(v[1]) + " " + fmt(v[2]); }
 
 void to_array(const Quaterniond &q, double *a) { a[0] = q.w(); a[1] = q.x(); a[2] = q.y(); a[3] = q.z(); }
 
@@ -133,6 +143,16 @@ void FixWirenetRigidMesh::parse(int narg, char **arg, Vector3d &com, bool &have_
   if (mass < 0.0) throw std::invalid_argument("missing 'mass M'");
   if (!have_inertia) throw std::invalid_argument("missing 'inertia Ixx Iyy Izz Ixy Ixz Iyz'");
   body.reset(new WireNet::RigidBody(mass, inertia));
+  // Finite inputs can still overflow in what the integrator computes first: momentum, weight,
+  // angular momentum and kinetic energy must be finite (e.g. 'vel 1e200 0 0').
+  auto finite = [&](double v, const std::string &what, const std::string &keys) {
+    if (!std::isfinite(v))
+      throw std::invalid_argument(keys + " give a non-finite " + what + " (mass " + fmt(mass) + ")");
+  };
+  finite(0.5 * mass * vel.squaredNorm(), "kinetic energy", "'vel " + fmt(vel) + "'");
+  finite(mass * gravity.norm(), "weight", "'gravity " + fmt(gravity) + "'");
+  finite(0.5 * omega.dot(inertia * omega), "rotational kinetic energy",
+         "'omega " + fmt(omega) + "' and the inertia");
 }
 
 void FixWirenetRigidMesh::find_mesh()

@@ -108,7 +108,8 @@ class BeamLaw {
   // Viscous damping of one bond (see doc/bond_wirenet.md, "Bond damping"): node velocities v and
   // angular velocities w. Adds the force on i (j gets the opposite) and the torques on i and j,
   // returns the dissipated power (>= 0). No allocation.
-  static inline double damp(const BeamConst<double> &b, const double *xi, const double *xj,
+  // ca, cs, cb, ct: the coefficients of BeamConst.
+  static inline double damp(double ca, double cs, double cb, double ct, const double *xi, const double *xj,
                             const double *vi, const double *vj, const double *wi, const double *wj,
                             double *fi, double *fj, double *ti, double *tj);
   // the damping coefficients of a bond of initial length l0 between nodes of masses mi, mj and
@@ -261,7 +262,7 @@ inline __attribute__((always_inline)) bool BeamLaw::load(const BeamConst<T> &b, 
   return true;
 }
 
-inline double BeamLaw::damp(const BeamConst<double> &b, const double *xi, const double *xj,
+inline double BeamLaw::damp(double ca, double cs, double cb, double ct, const double *xi, const double *xj,
                             const double *vi, const double *vj, const double *wi, const double *wj,
                             double *fi, double *fj, double *ti, double *tj)
 {
@@ -285,8 +286,8 @@ inline double BeamLaw::damp(const BeamConst<double> &b, const double *xi, const 
     const double wb = wr[c] - wn * e[c];  // bending part of the relative rotation rate
     vs2 += vs * vs;
     wb2 += wb * wb;
-    f[c] = b.ca * vn * e[c] + b.cs * vs;    // on i, at the centre of the bond
-    m[c] = b.cb * wb + b.ct * wn * e[c];    // relative rotation: +m on i, -m on j
+    f[c] = ca * vn * e[c] + cs * vs;    // on i, at the centre of the bond
+    m[c] = cb * wb + ct * wn * e[c];    // relative rotation: +m on i, -m on j
   }
   // the shear force acts at the centre: the same couple (L/2) e x f on both nodes
   const double exf[3] = { h * (e[1] * f[2] - e[2] * f[1]), h * (e[2] * f[0] - e[0] * f[2]),
@@ -297,7 +298,7 @@ inline double BeamLaw::damp(const BeamConst<double> &b, const double *xi, const 
     ti[c] += m[c] + exf[c];
     tj[c] += exf[c] - m[c];
   }
-  return b.ca * vn * vn + b.cs * vs2 + b.cb * wb2 + b.ct * wn * wn;
+  return ca * vn * vn + cs * vs2 + cb * wb2 + ct * wn * wn;
 }
 
 }  // namespace WireNet

@@ -50,10 +50,14 @@ _LIVE_LOCK = threading.Lock()
 
 
 def stop_all(grace=5.0):
-    """SIGTERM to every running LIGGGHTS process group, SIGKILL to those still alive after
-    ``grace`` seconds."""
+    """Stop every running LIGGGHTS process group (see stop)."""
     with _LIVE_LOCK:
         procs = list(_LIVE)
+    stop(procs, grace)
+
+
+def stop(procs, grace=5.0):
+    """SIGTERM to each process group, SIGKILL to those still alive after ``grace`` seconds."""
     for proc in procs:
         _signal_group(proc, signal.SIGTERM)
     deadline = time.time() + grace
@@ -103,6 +107,9 @@ def run(deck, workdir, variables=None, np=1, total_steps=None, label="", dt=None
         _LIVE.add(proc)
     try:
         output = _follow(proc, workdir, total_steps, label, dt, phase_marker)
+    except BaseException:      # an interrupt (or any error) while it runs: it must not outlive us
+        stop([proc])
+        raise
     finally:
         with _LIVE_LOCK:
             _LIVE.discard(proc)

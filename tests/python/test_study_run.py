@@ -38,13 +38,13 @@ def test_quick_study_end_to_end(tmp_path):
             assert meta["status"] == "not-implemented" and name in summary["not_implemented"]
             assert not any((folder / f).exists() for f in HEADERS)  # nothing faked
     assert summary["cases"]["beam"]["status"] == "ok"
-    # a second run resumes: the finished case is skipped
-    p = run_study(out, "beam")
+    # a second run in the same mode resumes: the finished case is skipped
+    p = run_study(out, "beam", "--quick")
     assert p.returncode == 0 and "complete, skipped" in p.stdout
 
 
 def test_unknown_case_is_a_clear_error(tmp_path):
     p = run_study(tmp_path / "x", "no_such_case")
-    assert p.returncode != 0
+    assert p.returncode == 2
     assert "unknown study or case 'no_such_case'" in p.stderr
     assert not (tmp_path / "x").exists()

@@ -84,6 +84,9 @@ def case_summary(case):
     if case.kind == "impact":
         energy = case.meta.get("energy") or {}
         momentum = case.meta.get("momentum") or {}
+        summary["energy_at_lowest_point"] = energy.get("at_lowest_point")
+        summary["initial_energy"] = energy.get("initial_energy")
+        summary["dissipation"] = case.meta.get("dissipation", "local")
         summary["impact"] = {"closure_error": energy.get("closure_error"),
                              "momentum_error": momentum.get("error"),
                              "broken_bonds": case.meta.get("broken_bonds"),
@@ -109,7 +112,7 @@ def quasi_static_summary(evidence):
 
 
 def _percent(value):
-    return "n/a" if value is None else f"{100 * value:.3g} %"
+    return "n/a" if value is None else f"{100 * value + 0.0:.3g} %"
 
 
 # --- impact peak comparison (Figures 5 and 6) -----------------------------------------------
@@ -172,10 +175,25 @@ def _verdict(holds):
     return ("supported" if all(holds) else "not supported"), all(holds)
 
 
-def claim_dt_sw(number, cases, summaries, key, stronger, weaker):
+# The impact cases under the second dissipation model (bond damping instead of local damping,
+# postprocess/studies.py) carry this suffix; the claims are evaluated under each model.
+BOND_SUFFIX = "_bonddamp"
+MODELS = {"local": "local damping (the paper's, alpha 0.5)",
+          "bond": "bond damping (momentum-conserving, no local damping)"}
+
+
+def model_name(name, model):
+    """The case that stands for ``name`` under a dissipation model (punches: the same case,
+    quasi-static and so not a question of the impact's dissipation)."""
+    return name + BOND_SUFFIX if model == "bond" and name.startswith("impact_") else name
+
+
+def claim_dt_sw(number, cases, summaries, key, stronger, weaker, model="local"):
     """Claims 1 and 2: family ``stronger`` beats ``weaker`` on peak ``key`` in every hex case."""
     evidence, notes = [], []
-    for name in HEX_CASES:
+    names = [model_name(n, model) for n in HEX_CASES
+             if model == "local" or n.startswith("impact_")]
+    for name in names:
         if not _usable(cases, name):
             notes.append(f"{name}: not evaluated ({_absence(cases, name)})")
             continue
@@ -186,18 +204,19 @@ def claim_dt_sw(number, cases, summaries, key, stronger, weaker):
             continue
         evidence.append({"case": name, stronger: a, weaker: b, "holds": bool(a > b)})
     quick = any(summaries[e["case"]]["mode"] == "quick" for e in evidence)
-    return _claim(number, evidence, notes, any(_usable(cases, n) for n in HEX_CASES), quick)
+    return _claim(number, evidence, notes, any(_usable(cases, n) for n in names), quick)
 
 
-def claim_rope(cases, summaries):
+def claim_rope(cases, summaries, model="local"):
     """Claim 3: rope peak total tension lower in impact_compound than in impact_square."""
     evidence, notes = [], []
-    missing = [n for n in ("impact_square", "impact_compound") if not _usable(cases, n)]
+    pair = [model_name(n, model) for n in ("impact_square", "impact_compound")]
+    missing = [n for n in pair if not _usable(cases, n)]
     for name in missing:
         notes.append(f"{name}: not evaluated ({_absence(cases, name)})")
     if not missing:
-        square = summaries["impact_square"].get("zone", {}).get("rope")
-        compound = summaries["impact_compound"].get("zone", {}).get("rope")
+        square = summaries[pair[0]].get("zone", {}).get("rope")
+        compound = summaries[pair[1]].get("zone", {}).get("rope")
         if square is None or compound is None:
             notes.append("not evaluated (no rope family in the zone forces)")
         else:
@@ -207,8 +226,7 @@ def claim_rope(cases, summaries):
                 "square_peak_max": square["peak_max_tension"],
                 "compound_peak_max": compound["peak_max_tension"],
                 "holds": bool(compound["peak_total_tension"] < square["peak_total_tension"])})
-    quick = bool(evidence) and any(summaries[n]["mode"] == "quick"
-                                   for n in ("impact_square", "impact_compound"))
+    quick = bool(evidence) and any(summaries[n]["mode"] == "quick" for n in pair)
     return _claim(3, evidence, notes, not missing, quick)
 
 
@@ -228,10 +246,41 @@ def _claim(number, evidence, notes, present, quick=False):
             "supported": supported, "evidence": evidence, "notes": notes}
 
 
-def evaluate_claims(cases, summaries):
-    return [claim_dt_sw(1, cases, summaries, "peak_max_tension", "DT", "SW"),
-            claim_dt_sw(2, cases, summaries, "peak_total_tension", "SW", "DT"),
-            claim_rope(cases, summaries)]
+def evaluate_claims(cases, summaries, model="local"):
+    return [claim_dt_sw(1, cases, summaries, "peak_max_tension", "DT", "SW", model),
+            claim_dt_sw(2, cases, summaries, "peak_total_tension", "SW", "DT", model),
+            claim_rope(cases, summaries, model)]
+
+
+# --- the two dissipation models side by side -------------------------------------------------
+
+DISSIPATION_KEYS = ("damping", "bond_damping", "contact", "w_plastic", "e_released")
+
+
+def dissipation_rows(summaries):
+    """Per impact case present under both models: how the block's energy was taken by its
+    lowest point (fractions of E0), peak block and support forces, braking distance and the
+    peak zone tension per family, for each model."""
+    rows = []
+    for name, local in summaries.items():
+        bond = summaries.get(name + BOND_SUFFIX)
+        if not name.startswith("impact_") or name.endswith(BOND_SUFFIX) or bond is None:
+            continue
+        for model, s in (("local", local), ("bond", bond)):
+            facts = s.get("impact") or {}
+            energy = s.get("energy_at_lowest_point") or {}
+            e0 = s.get("initial_energy")
+            rows.append({
+                "case": name, "model": model, "mode": s["mode"],
+                "energy_fractions": {k: (energy[k] / e0 if e0 and energy.get(k) is not None
+                                         else None) for k in DISSIPATION_KEYS},
+                "closure_error": facts.get("closure_error"),
+                "peak_block_force": facts.get("peak_block_force"),
+                "edge_force_peak": facts.get("edge_force_peak"),
+                "braking_distance": facts.get("max_displacement"),
+                "peak_zone_total": {f: z["peak_total_tension"]
+                                    for f, z in (s.get("zone") or {}).items()}})
+    return rows
 
 
 # --- expected cases -------------------------------------------------------------------------
@@ -339,7 +388,40 @@ def _claim_lines(claim):
     return lines
 
 
-def markdown(directory, summaries, claims, missing, figures):
+def _dissipation_lines(rows, claims, claims_bond):
+    """The impact cases under both dissipation models, and each claim's verdict under each."""
+    if not rows:
+        return []
+    lines = ["", "## Dissipation models: local damping vs bond damping", "",
+             DISSIPATION_NOTE, ""]
+    lines += _table(["case", "model", "mode", "local damping / E0", "bond damping / E0",
+                     "contacts / E0", "plastic / E0", "released / E0", "closure",
+                     "peak block force [N]", "peak support force [N]", "braking distance [m]",
+                     "peak zone total per family [N]"],
+                    [[r["case"], r["model"], r["mode"]] +
+                     [_percent(r["energy_fractions"][k]) for k in DISSIPATION_KEYS] +
+                     [_percent(r["closure_error"]), fmt(r["peak_block_force"]),
+                      fmt(r["edge_force_peak"]), fmt(r["braking_distance"]),
+                      ", ".join(f"{f} {fmt(v)}" for f, v in r["peak_zone_total"].items())]
+                     for r in rows])
+    lines += ["", "Verdicts under each model (impact cases; the quasi-static punches count "
+              "under local damping only):", ""]
+    lines += _table(["claim", MODELS["local"], MODELS["bond"]],
+                    [[str(a["id"]), a["verdict"], b["verdict"]]
+                     for a, b in zip(claims, claims_bond)])
+    return lines
+
+
+DISSIPATION_NOTE = (
+    "Energies are fractions of the initial energy E0 taken by the block's lowest point. Local "
+    "(Cundall) damping acts on each node's absolute motion, so it pushes on the net like an "
+    "external force to ground; bond damping acts on the relative motion of each bond's two "
+    "nodes and conserves momentum, so the supports carry all of the block's momentum "
+    "(doc/impact.md). The bond-damping cases are the same impacts with alpha = 0 and "
+    "`damping ZETA` on every bond.")
+
+
+def markdown(directory, summaries, claims, missing, figures, claims_bond=(), dissipation=()):
     lines = ["# WireNet study report", "", f"Study directory: `{os.path.abspath(directory)}`", "",
              "## Cases", "", "Peak forces are the largest |force| of platter.csv / block.csv; "
              "first rupture, edge-force peak and wall time come from case.json (n/a: not "
@@ -397,6 +479,7 @@ def markdown(directory, summaries, claims, missing, figures):
     lines += ["", "## The paper's claims", ""]
     for claim in claims:
         lines += _claim_lines(claim)
+    lines += _dissipation_lines(list(dissipation), claims, list(claims_bond))
     lines += ["", "## Missing or not implemented cases", ""]
     absent = [f"- {name}: missing" for name in missing]
     absent += [f"- {n}: not implemented" for n, s in summaries.items()
@@ -426,6 +509,8 @@ def build(directory, expected=None, figures=True):
     cases = study.discover(directory)
     summaries = {name: case_summary(case) for name, case in cases.items()}
     claims = evaluate_claims(cases, summaries)
+    claims_bond = evaluate_claims(cases, summaries, "bond")
+    dissipation = dissipation_rows(summaries)
     missing = missing_cases(cases, expected)
     with Outputs() as outputs:
         written = {}
@@ -435,7 +520,9 @@ def build(directory, expected=None, figures=True):
         summary = {"generator": "postprocess report", "cases": summaries, "missing": missing,
                    "not_implemented": [n for n, s in summaries.items()
                                        if s["status"] == "not-implemented"],
-                   "claims": claims, "impact_peaks": impact_peak_rows(summaries),
+                   "claims": claims, "claims_bond_damping": claims_bond,
+                   "dissipation_models": dissipation,
+                   "impact_peaks": impact_peak_rows(summaries),
                    "figures": {k: [os.path.relpath(p, directory) for p in v]
                                for k, v in written.items()}}
         with open(outputs.file(os.path.join(directory, "summary.json")), "w",
@@ -443,7 +530,8 @@ def build(directory, expected=None, figures=True):
             handle.write(json_text(summary))
         with open(outputs.file(os.path.join(directory, "report.md")), "w",
                   encoding="utf-8") as handle:
-            handle.write(markdown(directory, summaries, claims, missing, written))
+            handle.write(markdown(directory, summaries, claims, missing, written,
+                                  claims_bond, dissipation))
     return summary
 
 

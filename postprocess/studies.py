@@ -104,9 +104,13 @@ def punch_runner(panel):
     return run_punch_case
 
 
-def impact_runner(panel):
+def impact_runner(panel, dissipation="local"):
+    """An impact case under local damping (the paper's) or under bond damping instead."""
+    model = dict(alpha=0.0, bond_zeta=impact.BOND_ZETA) if dissipation == "bond" else {}
+
     def run_impact_case(case_dir, quick=False, np_=1):
-        return impact.run_case(case_dir, panel, bending=PAPER_BENDING, quick=quick, np_=np_)
+        return impact.run_case(case_dir, panel, bending=PAPER_BENDING, quick=quick, np_=np_,
+                               **model)
     return run_impact_case
 
 
@@ -120,6 +124,9 @@ for name, panel in (("punch_hex", "hex"), ("punch_compound", "compound")):
 for name, panel in (("impact_hex", "hex"), ("impact_square", "square"),
                     ("impact_compound", "compound")):
     CASES[name] = ("impact", impact_runner(panel))
+for name, panel in (("impact_hex", "hex"), ("impact_square", "square"),
+                    ("impact_compound", "compound")):
+    CASES[name + report.BOND_SUFFIX] = ("impact", impact_runner(panel, "bond"))
 
 STUDIES = {"compound": list(CASES),
            "calibration": [n for n in CASES if n.startswith("calibration_")],

@@ -139,3 +139,28 @@ def test_contact_work_matches_the_block_and_enters_the_budget_once(serial):
     e = energy_rows(folder)
     assert np.allclose(e["contact"], -(d["w_contact_block"] + d["w_contact_net"]),
                        rtol=1e-9, atol=1e-9 * facts["energy"]["initial_energy"])
+
+
+@pytest.fixture(scope="module")
+def bond_damped(tmp_path_factory):
+    """The same hard impact with bond damping (5 % of critical) instead of local damping."""
+    os.environ.setdefault("WIRENET_BUILD", str(lmp.BUILD))
+    folder = tmp_path_factory.mktemp("hard_hex_bond")
+    facts = impact.run_case(str(folder), "hex", quick=True, speed=SPEED, duration=DURATION,
+                            alpha=0.0, bond_zeta=impact.BOND_ZETA)
+    return folder, facts
+
+
+def test_bond_damping_budget_closes_and_conserves_momentum(bond_damped):
+    """Bond damping dissipates through relative motion only: its term is positive, local
+    damping takes nothing and gives no impulse, the budget closes and the momentum balance
+    holds with the supports and gravity alone."""
+    folder, facts = bond_damped
+    energy, mom = facts["energy"], facts["momentum"]
+    assert facts["dissipation"] == "bond" and facts["damping"] == 0.0
+    assert energy["final"]["bond_damping"] > 1e-3 * energy["initial_energy"], energy["final"]
+    assert energy["final"]["damping"] == 0.0
+    assert energy["closure_error"] < 0.005, energy
+    assert mom["final"]["jz_damping"] == 0.0
+    assert mom["error"] < 0.002, mom
+    assert energy["final"]["w_plastic"] > 0 and facts["broken_bonds"] > 0

@@ -23,7 +23,7 @@ def test_quick_study_end_to_end(tmp_path):
     out = tmp_path / "study"
     p = run_study(out, "--quick")
     assert p.returncode == 0, p.stderr
-    assert "[case 1/11] beam" in p.stdout
+    assert "[case 1/14] beam" in p.stdout
     summary = json.loads((out / "summary.json").read_text())
     assert (out / "report.md").is_file()
     for name, case in summary["cases"].items():

@@ -46,11 +46,9 @@ ZONE_RADIUS = 1.0
 DT_SAFETY = 0.5        # as the punch cases: half the stable step with the true masses
 OUTPUT_INTERVAL = 2e-4   # s between rows of impact.csv / block.csv
 DUMP_INTERVAL = 2e-3     # s between bond dumps (zone forces)
-# The block's default model. "analytic" (fix wirenet/body truncated-cube, free) is wired through
-# inputs/include/block_analytic.in, but on the fix wirenet/body of main 6854a4a every free body
-# crashes while the fix parses its arguments (tests/python/test_body.py), so the block stays
-# on the STL + fix wirenet/rigidmesh until that is fixed; then make this "analytic".
-DEFAULT_BODY = "mesh"
+# The block's default model: "analytic" (fix wirenet/body truncated-cube, free, no facets) or
+# "mesh" (the generator's STL moved by fix wirenet/rigidmesh); doc/impact.md.
+DEFAULT_BODY = "analytic"
 FRAMES = 40              # ParaView frames over the impact (inputs/include/frames.in)
 
 

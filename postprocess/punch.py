@@ -75,14 +75,10 @@ TOLERANCE = 0.01     # 1 %: curve agreement, kinetic energy fraction, equilibriu
 # (the generator's STL with fix mesh/surface/stress + wall/gran + move/mesh, for shapes with no
 # analytic form; the facet traps of doc/punch.md apply to it). inputs/include/platter_*.in.
 BODY_MODELS = ("analytic", "mesh")
-# The runners' default per platter. The analytic spheroid agrees with a 192-segment STL within
-# 1 % of the peak force on the quick hexagonal punch (tests/python/test_punch_body.py) at less
-# than half the cost per step (docs/PERFORMANCE.md). The analytic cone stays off by default: on
-# the fix wirenet/body of main 6854a4a (the build of /work/main/build, and a fresh compile of
-# its sources) a cone finds no contact for a node on or near its axis, so it never touches the
-# centre crossing (test_punch_body.py::test_cone_agrees_with_a_fine_stl is an xfail that turns
-# into a failure once it works: then make the cone "analytic" here).
-DEFAULT_BODY = {"spheroid": "analytic", "cone": "mesh"}
+# The runners' default per platter: the analytic body (its curve agrees with a 192-segment STL
+# within 1 % of the peak force: tests/python/test_punch_body.py; doc/punch.md). "mesh" runs the
+# STL (the facet traps of doc/punch.md apply there).
+DEFAULT_BODY = {"spheroid": "analytic", "cone": "analytic"}
 STL_RESOLUTION = 48  # segments around the axis of the platter STL (mesh path and frames)
 FRAMES = 20          # ParaView frames over the travel (inputs/include/frames.in)
 

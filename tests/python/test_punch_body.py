@@ -6,8 +6,7 @@ before the first rupture.
 The STL is wirenet-gen's at 192 segments around the axis (facet sag 0.07 mm on the 0.5 m
 spheroid, against 1.1 mm at the 48 segments of the study), cut to the facets within 6 cm of
 the apex (the net cannot reach the others in 3 cm of travel; the whole dome gives the same
-curve within 0.05 % of the peak and costs twice as much). About 50 s for the spheroid (90 s on the shared 2 cores; user time 45 s), a few
-for the cone while it is an xfail.
+curve within 0.05 % of the peak and costs twice as much). About 40 s for the spheroid and 10 s for the cone on the shared 2 cores.
 """
 
 import math

@@ -1,5 +1,6 @@
 """Block impact cases (paper, section 5): a rigid truncated cube (0.45 m, 44.5 kg, 10 m/s along
--z, undamped, fix wirenet/rigidmesh) hits the centre of a hexagonal, square or compound panel.
+-z, undamped; the generator's STL moved by fix wirenet/rigidmesh, or the exact body of fix
+wirenet/body: ``body_model``, doc/impact.md) hits the centre of a hexagonal, square or compound panel.
 Deck: inputs/impact.in. Beyond the paper, every case gets:
 
 - the force on the edge supports (the posts) as a time series (edges.csv) and its peak;
@@ -24,7 +25,7 @@ import time
 
 import numpy as np
 
-from . import liggghts, punch, vtu, zone
+from . import bodyframes, liggghts, punch, vtu, zone
 from .csvio import read_csv, write_csv
 from .datafile import read_data
 from .errors import PostprocessError
@@ -45,6 +46,9 @@ ZONE_RADIUS = 1.0
 DT_SAFETY = 0.5        # as the punch cases: half the stable step with the true masses
 OUTPUT_INTERVAL = 2e-4   # s between rows of impact.csv / block.csv
 DUMP_INTERVAL = 2e-3     # s between bond dumps (zone forces)
+# The block's default model: "analytic" (fix wirenet/body truncated-cube, free, no facets) or
+# "mesh" (the generator's STL moved by fix wirenet/rigidmesh); doc/impact.md.
+DEFAULT_BODY = "analytic"
 FRAMES = 40              # ParaView frames over the impact (inputs/include/frames.in)
 
 
@@ -61,12 +65,16 @@ class Setup:
 
     def __init__(self, workdir, panel, bending=PAPER_BENDING, quick=False, duration=None, relax=None,
                  mass=BLOCK["mass"], side=BLOCK["side"], speed=BLOCK["speed"], alpha=ALPHA,
-                 procs=None, bond_zeta=0.0, rope_strength=False):
+                 procs=None, body_model=DEFAULT_BODY, bond_zeta=0.0, rope_strength=False):
         if not (mass > 0 and side > 0 and speed > 0):
             raise PostprocessError(f"impact: mass, side and speed must be > 0 (got {mass}, "
                                    f"{side}, {speed})")
         if not 0 <= alpha < 1:
             raise PostprocessError(f"impact: damping alpha must be in [0, 1) (got {alpha})")
+        # the block: an exact truncated cube of fix wirenet/body ("analytic") or the generator's
+        # STL moved by fix wirenet/rigidmesh ("mesh"); the STL is generated in both cases (the
+        # frames draw it, and its JSON gives the inertia)
+        self.body_model = punch.check_body_model(body_model)
         if not 0 <= bond_zeta < 10:
             raise PostprocessError(f"impact: bond damping zeta must be in [0, 10) (got {bond_zeta})")
         self.bond_zeta = bond_zeta
@@ -112,7 +120,9 @@ class Setup:
                  dt=repr(self.dt), relax_steps=self.relax_steps, steps=self.steps,
                  every=self.every, dump_every=self.dump_every,
                  zone_r=repr(ZONE_RADIUS + 0.2), out=".",
-                 frame_every=max(int(math.ceil(self.steps / FRAMES)), 1))
+                 frame_every=max(int(math.ceil(self.steps / FRAMES)), 1),
+                 body_model=self.body_model, block_side=repr(float(self.block["parameters"]["side"])),
+                 block_cut=repr(float(self.block["parameters"]["corner_cut"])))
         if self.procs:
             v["procs"] = self.procs
         if self.bond_zeta:
@@ -262,7 +272,9 @@ def write_outputs(setup, case_dir, workdir, table):
     write_csv(os.path.join(case_dir, "zone_forces.csv"), zone.HEADER,
               zone.rows(times, disp, names, totals, maxima, counts))
 
-    # the ParaView series CASE/CASE.pvd (net) and CASE/CASE_body.pvd (block)
+    # the ParaView series CASE/CASE.pvd (net) and CASE/CASE_body.pvd (block); the analytic
+    # block's frames are the generator's STL moved to its poses
+    bodyframes.write_body_frames(workdir, setup.stl)
     vtu.write_case_series(case_dir, workdir, setup.data_path, setup.dt)
 
     k_edge = int(np.argmax(edge))
@@ -308,7 +320,7 @@ def run_case(case_dir, panel, bending=PAPER_BENDING, quick=False, np_=1, **setup
     facts.update(panel=panel, bending=bending, block=dict(mass=setup.mass, side=setup.side,
                                                           speed=setup.speed,
                                                           inertia=setup.block["inertia"]),
-                 damping=setup.alpha, bond_damping=setup.bond_zeta,
+                 body_model=setup.body_model, damping=setup.alpha, bond_damping=setup.bond_zeta,
                  dissipation="bond" if setup.bond_zeta else "local",
                  rope_strength=list(ROPE_STRENGTH) if setup.rope_strength else None,
                  dt=setup.dt, steps=setup.steps,

@@ -39,7 +39,7 @@ import time
 
 import numpy as np
 
-from . import liggghts, vtu, zone
+from . import bodyframes, liggghts, vtu, zone
 from .model import (CONTACT, PAPER_BENDING, ROPE, ROPE_STRENGTH, SW_CURVE, WIRE,
                     rope_strength_keyword)
 from .csvio import read_csv, write_csv
@@ -72,7 +72,43 @@ QUICK_TRAVEL = {"square": 0.1, "hex": 0.03, "compound": 0.03}
 # checks cover every output step of the whole travel.
 SLOW_TRAVEL = {"square": 1.0, "hex": 1.0 / SLOW_FACTOR, "compound": 1.0 / SLOW_FACTOR}
 TOLERANCE = 0.01     # 1 %: curve agreement, kinetic energy fraction, equilibrium
+# The loading body: "analytic" (fix wirenet/body, exact shape, no facets: the default) or "mesh"
+# (the generator's STL with fix mesh/surface/stress + wall/gran + move/mesh, for shapes with no
+# analytic form; the facet traps of doc/punch.md apply to it). inputs/include/platter_*.in.
+BODY_MODELS = ("analytic", "mesh")
+# The runners' default per platter: the analytic body (its curve agrees with a 192-segment STL
+# within 1 % of the peak force: tests/python/test_punch_body.py; doc/punch.md). "mesh" runs the
+# STL (the facet traps of doc/punch.md apply there).
+DEFAULT_BODY = {"spheroid": "analytic", "cone": "analytic"}
+STL_RESOLUTION = 48  # segments around the axis of the platter STL (mesh path and frames)
 FRAMES = 20          # ParaView frames over the travel (inputs/include/frames.in)
+
+
+def body_shape(platter):
+    """fix wirenet/body shape arguments and local +z axis of a platter: the same solid as the
+    generator's STL (base disc at the reference point, dome or tip towards -z)."""
+    shape = PLATTERS[platter]
+    if platter == "spheroid":
+        return f"spheroid {shape['radius']!r} {shape['radius']!r} {shape['height']!r}", "0 0 1"
+    return (f"cone {shape['radius']!r} {shape['height']!r} {shape.get('tip_radius', 0.0)!r}",
+            "0 0 -1")
+
+
+def crop_stl(path, depth):
+    """Keep the facets of a platter STL (apex at z = -h, base at z = 0) that reach within
+    ``depth`` of the apex: a fine mesh then costs only where the net can touch it (the side-by-side
+    comparison of a fine STL with the analytic body, tests/python/test_punch_body.py)."""
+    points, triangles = vtu.read_stl(path)
+    zmin = float(points[:, 2].min())
+    keep = points[triangles][:, :, 2].min(axis=1) < zmin + depth
+    bodyframes.write_stl(path, points, triangles[keep], name="platter")
+    return int(keep.sum())
+
+
+def check_body_model(body_model):
+    if body_model not in BODY_MODELS:
+        raise PostprocessError(f"unknown body model '{body_model}' (analytic or mesh)")
+    return body_model
 
 
 def _panel_options(kind, quick):
@@ -145,7 +181,9 @@ class Setup:
     """Everything a punch run needs; .variables(speed, out) gives the deck's -var values."""
 
     def __init__(self, workdir, panel, platter, bending=PAPER_BENDING, quick=False, steps_per_m=None,
-                 travel=None, stop_broken=0, rope_strength=False):
+                 travel=None, stop_broken=0, body_model=None, resolution=STL_RESOLUTION,
+                 stl_depth=None, rope_strength=False):
+        self.body_model = check_body_model(body_model or DEFAULT_BODY[platter])
         os.makedirs(workdir, exist_ok=True)
         self.panel, self.platter, self.bending, self.quick = panel, platter, bending, quick
         self.rope_strength = rope_strength   # breakable ropes (materials.in rope_sigma_t/tau_c)
@@ -154,10 +192,14 @@ class Setup:
         self.data_path = liggghts.generate(options[0], prefix, *options[1:])
         self.json_path = prefix + ".json"
         shape = PLATTERS[platter]
+        # the STL: the body itself on the mesh path, only the frames' drawing with the analytic one
+        self.resolution = int(resolution)
         self.stl = os.path.join(workdir, f"{platter}.stl")
         tip = ["--tip-radius", shape["tip_radius"]] if "tip_radius" in shape else []
         liggghts.generate(f"shape {platter}", self.stl, "--radius", shape["radius"],
-                          "--height", shape["height"], "--resolution", 48, *tip)
+                          "--height", shape["height"], "--resolution", self.resolution, *tip)
+        if stl_depth:
+            crop_stl(self.stl, stl_depth)
         self.meta = read_json(self.json_path)
         data = read_data(self.data_path)
         self.layers = 2 if self.meta.get("kind") == "compound" else 1
@@ -208,7 +250,8 @@ class Setup:
                  travel=travel or self.travel, every=every, ke_every=ke_every,
                  dump_every=every * 5, out=".",
                  stop_broken=self.stop_broken if stop_broken is None else stop_broken,
-                 gamma_n=repr(self.gamma_n),
+                 gamma_n=repr(self.gamma_n), body_model=self.body_model,
+                 platter_shape=body_shape(self.platter)[0], platter_axis=body_shape(self.platter)[1],
                  frame_every=max(int(math.ceil((travel or self.travel) / (speed * self.dt)
                                                / FRAMES)), 1))
         if self.rope_strength:
@@ -216,10 +259,15 @@ class Setup:
         return v, every
 
     def displacement(self, steps, speed_factor=1.0):
-        """Platter travel after ``steps`` steps (the deck's ramp then constant speed)."""
+        """Platter travel after ``steps`` steps (the deck's ramp then constant speed). The mesh
+        platter sums the step velocities of its step-wise ramp; the analytic body's ramp is
+        linear in time (the two differ by half a step's travel at most)."""
         speed = PAPER_SPEED / speed_factor
         nramp = math.ceil(2 * 0.002 / (speed * self.dt))
         steps = np.asarray(steps, float)
+        if self.body_model == "analytic":
+            return speed * self.dt * np.where(steps <= nramp, steps ** 2 / (2 * nramp),
+                                              steps - nramp / 2)
         ramp = steps * (steps + 1) / (2 * nramp)
         const = (nramp + 1) / 2 + steps - nramp
         return speed * self.dt * np.where(steps <= nramp, ramp, const)
@@ -439,7 +487,9 @@ def write_outputs(setup, case_dir, workdir, table, radius=1.0):
     disp = setup.displacement(np.round(times / setup.dt))
     write_csv(os.path.join(case_dir, "zone_forces.csv"), zone.HEADER,
               zone.rows(times, disp, names, totals, maxima, counts))
-    # the ParaView series CASE/CASE.pvd (net) and CASE/CASE_body.pvd (platter)
+    # the ParaView series CASE/CASE.pvd (net) and CASE/CASE_body.pvd (platter); the analytic
+    # body's frames are the generator's STL moved to its poses
+    bodyframes.write_body_frames(workdir, setup.stl)
     vtu.write_case_series(case_dir, workdir, setup.data_path, setup.dt)
     return panel.families
 
@@ -471,6 +521,7 @@ def run_case(case_dir, panel, platter, bending=PAPER_BENDING, quick=False, np_=1
     rope_end = rope_failure(setup, run_dir, families)
     facts = dict(
         panel=panel, platter=platter, bending=bending, platter_shape=PLATTERS[platter],
+        body_model=setup.body_model,
         speed=PAPER_SPEED, mass_scale=setup.mass_scale, equivalent_speed=setup.equivalent_speed,
         dt=setup.dt, dt_preload=setup.dt_preload, relax_steps=setup.relax_steps,
         steps_per_metre=setup.steps_per_m, damping=ALPHA, travel=setup.travel,

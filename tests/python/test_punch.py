@@ -127,16 +127,19 @@ def test_centred_punch_is_symmetric(case):
 # ---------------------------------------------------------------------------------------------
 # Hexagonal panel on the semi-spheroid: the 3.9 g nodes stay on the platter.
 
-def test_hex_nodes_stay_on_the_spheroid(tmp_path):
+@pytest.mark.parametrize("body_model", ["mesh", "analytic"])
+def test_hex_nodes_stay_on_the_spheroid(tmp_path, body_model):
     """Quick hexagonal panel, one run (no slow twin) over 2 cm of travel. With the platter's
     facet edges in the panel's symmetry planes, LIGGGHTS lost the contact of the node pair of
     the central twist until the overlap reached 0.75 mm and then threw it off at 10 m/s (kinetic
     energy 100 times the work of the platter, DT bonds torn). Now the net must stay intact, its
     kinetic energy a small fraction of the work done, and the platter force must grow
-    monotonically once it carries the net."""
+    monotonically once it carries the net. The trap is the STL's (the analytic spheroid has no
+    facet edges); both platter models must pass."""
     import math
     os.environ.setdefault("WIRENET_BUILD", str(lmp.BUILD))
-    setup = punch.Setup(str(tmp_path / "setup"), "hex", "spheroid", quick=True, travel=0.02)
+    setup = punch.Setup(str(tmp_path / "setup"), "hex", "spheroid", quick=True, travel=0.02,
+                        body_model=body_model)
     variables, every = setup.variables()
     steps = int(math.ceil(setup.travel / (punch.PAPER_SPEED * setup.dt)))
     punch.liggghts.run(punch.liggghts.INPUTS / "punch.in", tmp_path / "run", variables,
@@ -150,9 +153,12 @@ def test_hex_nodes_stay_on_the_spheroid(tmp_path):
     # the end); a node thrown off makes it about 70
     assert np.max(table["ke"][loaded] / work[loaded]) < 0.25
     assert table["ke"][-1] < 0.05 * work[-1]
-    # the force rises with the travel once the net carries the platter
+    # the force rises with the travel once the net carries the platter. The exact dome (and a
+    # 192-segment STL just the same: 62 -> 45 N) shows a dip of 17 N, 5.5 % of the force at 2 cm,
+    # at 0.9 cm, where the quick run is far from static; the 48-segment STL smooths it (2 %)
+    drop = 0.02 if body_model == "mesh" else 0.08
     f = table["force"][table["displacement"] > 0.005]
-    assert np.all(np.diff(f) > -0.02 * f.max())
+    assert np.all(np.diff(f) > -drop * f.max())
     assert f[-1] > 100
 
 

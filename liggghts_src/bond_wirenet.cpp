@@ -346,15 +346,10 @@ inline void apply(const BeamLoad<T> &o, int k, int i, int j, double *f, double *
 
 }  // namespace
 
-// A beam bond reached its strength: record the rupture as a wire's (released energy = its strain
-// energy at this step) and zero its lane, so the bond exerts nothing until it is removed from
-// the bond list at the next re-neighbouring.
-void BondWirenet::break_beam(BeamPair &p, int k)
+// Positions and orientations of a beam bond's two nodes, as the beam law reads them.
+static inline void gather_nodes(const double *x, const double *rot, int i, int j,
+                                BeamNodes<double> &n)
 {
-  const int i = p.i[k], j = p.j[k];
-  BeamConst<double> b = lane(p.c, k);
-  BeamNodes<double> n;
-  const double *x = atom->x[0], *rot = history->rotations();
   for (int c = 0; c < 3; c++) {
     n.xi[c] = x[3 * i + c];
     n.xj[c] = x[3 * j + c];
@@ -363,6 +358,17 @@ void BondWirenet::break_beam(BeamPair &p, int k)
     n.ri[c] = rot[9 * i + c];
     n.rj[c] = rot[9 * j + c];
   }
+}
+
+// A beam bond reached its strength: record the rupture as a wire's (released energy = its strain
+// energy at this step) and zero its lane, so the bond exerts nothing until it is removed from
+// the bond list at the next re-neighbouring.
+void BondWirenet::break_beam(BeamPair &p, int k)
+{
+  const int i = p.i[k], j = p.j[k];
+  BeamConst<double> b = lane(p.c, k);
+  BeamNodes<double> n;
+  gather_nodes(atom->x[0], history->rotations(), i, j, n);
   BeamResult out;
   BeamLaw::load<true>(b, n, out);
   const double d[3] = { n.xj[0] - n.xi[0], n.xj[1] - n.xi[1], n.xj[2] - n.xi[2] };
@@ -417,14 +423,7 @@ void BondWirenet::compute_beams(int eflag)
     for (int k = 0; k < nb; k++) {
       const int i = p.i[k], j = p.j[k];
       BeamNodes<double> n;
-      for (int c = 0; c < 3; c++) {
-        n.xi[c] = x[3 * i + c];
-        n.xj[c] = x[3 * j + c];
-      }
-      for (int c = 0; c < 9; c++) {
-        n.ri[c] = rot[9 * i + c];
-        n.rj[c] = rot[9 * j + c];
-      }
+      gather_nodes(x, rot, i, j, n);
       BeamResult out;
       BeamLaw::load<EVFLAG != 0, STRENGTH>(lane(p.c, k), n, out);
       if (STRENGTH && out.fail >= 1.0) {

@@ -15,12 +15,12 @@
 """
 
 import math
-import re
 
 import numpy as np
 import pytest
 
 import lmp
+from rigid import axis_angle, quat_rotate, vec
 from test_wire_errors import check_error
 
 # global vector of fix wirenet/body (1-based index -> name)
@@ -67,21 +67,6 @@ def rows_of(out, fixes):
                 d[key] = val
         table.append(d)
     return table
-
-
-def vec(row, *names):
-    return np.array([row[n] for n in names])
-
-
-def quat_rotate(q, v):
-    w, x, y, z = q
-    u = np.array([x, y, z])
-    return v + 2 * np.cross(u, np.cross(u, v) + w * v)
-
-
-def axis_angle(axis, angle):
-    axis = np.asarray(axis, float) / np.linalg.norm(axis)
-    return np.concatenate([[math.cos(angle / 2)], math.sin(angle / 2) * axis])
 
 
 def from_z(axis):

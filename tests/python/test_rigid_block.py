@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 import lmp
+from rigid import axis_angle, quat_rotate, vec
 
 MASS = 44.5
 I_CUBE = 1.41345292207792     # wirenet-gen truncated cube, 0.45 m, 44.5 kg (isotropic)
@@ -88,21 +89,6 @@ def rows_of(out):
                 d[key] = val
         table.append(d)
     return table
-
-
-def vec(row, *names):
-    return np.array([row[n] for n in names])
-
-
-def quat_rotate(q, v):
-    w, x, y, z = q
-    u = np.array([x, y, z])
-    return v + 2 * np.cross(u, np.cross(u, v) + w * v)
-
-
-def axis_angle(axis, angle):
-    axis = np.asarray(axis, float) / np.linalg.norm(axis)
-    return np.concatenate([[math.cos(angle / 2)], math.sin(angle / 2) * axis])
 
 
 def read_stl(path):

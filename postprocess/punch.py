@@ -31,7 +31,6 @@ Evidence, computed for every case and written to case.json:
   13 N at 1 cm, against 129 N; the 4x slower twin's gap is 5-10 times smaller).
 """
 
-import json
 import math
 import os
 import threading

@@ -4,7 +4,6 @@ Only numbers read from the case files are reported; absent or not-implemented ca
 such and a claim whose cases are absent is "not evaluated (case missing)".
 """
 
-import json
 import os
 
 import numpy as np

@@ -11,7 +11,6 @@ must lie within 0.1 % below the analytic limit.
 
 import math
 
-import numpy as np
 import pytest
 
 import lmp

@@ -222,6 +222,8 @@ def test_zero_damping_is_no_damping(tmp_path):
     (r_none, f_none), (r_zero, f_zero) = runs["none"], runs["zero"]
     np.testing.assert_array_equal(f_none[4000][1], f_zero[4000][1])
     assert all(r["diss"] == 0.0 for r in r_zero)
+    same = [[v for k, v in sorted(r.items()) if k != "diss"] for r in r_none]
+    assert same == [[v for k, v in sorted(r.items()) if k != "diss"] for r in r_zero]
 
 
 def final_state(wd, deck, np_=1):

@@ -6,7 +6,6 @@ Two nodes 40 mm apart; node 2 is driven along the bond axis through the traces' 
 bond tension is compared point by point with the trace (relative error < 1e-6).
 """
 
-import math
 
 import numpy as np
 import pytest

@@ -38,17 +38,30 @@ void addHexOptions(Options& o, const std::string& pre) {
     o.addNumber("rise", 0.040, "m", "y-distance spanned by a single-wire bond");
     o.addNumber("wire-diameter", 0.0027, "m", "mesh wire diameter");
     o.addNumber("selvedge-diameter", 0.0034, "m", "selvedge (edge) wire diameter");
-    o.addNumber(pre + "node-diameter", 0.0108, "m", "hex node sphere diameter (numerical, 4 d)");
+    o.addNumber(pre + "node-diameter", 0.0108, "m", "hex node sphere DIAMETER (numerical, 4 d)");
+    o.addOptionalNumber(pre + "node-radius", "m", "hex node sphere RADIUS instead of --" + pre +
+                        "node-diameter (YADE's hexaNet gives radii)", Bound::Positive);
     o.addString(pre + "node-mass", "0.0039", "hex node mass in kg, or 'wire' (steel wire mass lumped evenly)");
     o.addOptionalNumber(pre + "areal-mass", "kg/m2", "if set, hex node mass = areal mass x W x H / nodes");
     o.addNumber("snap", 0.3, "-", "boundary merge tolerance as a fraction of the shortest lattice bond");
+}
+
+// The node sphere's diameter: --node-radius doubled when given (never together with
+// --node-diameter: a size stated twice is a size stated ambiguously), else `diameter`.
+double nodeDiameter(const Options& o, const std::string& pre, double diameter) {
+    if (!o.isSet(pre + "node-radius")) return diameter;
+    if (o.wasGiven(pre + "node-diameter"))
+        throw UsageError("give --" + pre + "node-diameter or --" + pre + "node-radius, not both");
+    return 2.0 * o.num(pre + "node-radius");
 }
 
 void addSquareOptions(Options& o, const std::string& pre) {
     o.addNumber("cell", 0.30, "m", "square cell size (rope spacing)");
     o.addNumber("rope-diameter", 0.010, "m", "strand-rope diameter");
     o.addInt("elements", 3, 1, "rope elements per cell side");
-    o.addOptionalNumber(pre + "node-diameter", "m", "square node sphere diameter", Bound::Positive, "rope diameter");
+    o.addOptionalNumber(pre + "node-diameter", "m", "square node sphere DIAMETER", Bound::Positive, "rope diameter");
+    o.addOptionalNumber(pre + "node-radius", "m", "square node sphere RADIUS instead of --" + pre +
+                        "node-diameter", Bound::Positive);
     o.addNumber("rope-mass", 0.40, "kg/m", "rope mass per metre, lumped to the nodes");
     o.addNumber("edge-drop", 0.25, "-", "drop an interior rope closer than this x cell to the edge");
 }
@@ -160,7 +173,7 @@ HexParams hexParams(const Options& o, const std::string& pre) {
     p.rise = o.num("rise");
     p.wireDiameter = o.num("wire-diameter");
     p.selvedgeDiameter = o.num("selvedge-diameter");
-    p.nodeDiameter = o.num(pre + "node-diameter");
+    p.nodeDiameter = nodeDiameter(o, pre, o.num(pre + "node-diameter"));
     p.snapFraction = o.num("snap");
     const std::string& mass = o.str(pre + "node-mass");
     if (mass == "wire") {
@@ -189,7 +202,8 @@ SquareParams squareParams(const Options& o, const std::string& pre) {
     p.cell = o.num("cell");
     p.ropeDiameter = o.num("rope-diameter");
     p.elements = int(o.integer("elements"));
-    p.nodeDiameter = o.isSet(pre + "node-diameter") ? o.num(pre + "node-diameter") : p.ropeDiameter;
+    p.nodeDiameter = nodeDiameter(o, pre, o.isSet(pre + "node-diameter")
+                                              ? o.num(pre + "node-diameter") : p.ropeDiameter);
     p.ropeMass = o.num("rope-mass");
     p.dropFraction = o.num("edge-drop");
     o.requireLess("--cell", p.cell, "--width", p.width);

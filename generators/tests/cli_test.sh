@@ -38,6 +38,9 @@ bad "--twist-length + --rise must be <= --height/2" hex --height 0.1 --out p
 bad "--node-mass must be a number > 0 or 'wire' (got heavy)" hex --node-mass heavy --out p
 bad "--areal-mass must be > 0 (got 0)"       hex --areal-mass 0 --out p
 bad "--snap must be < 0.5 (got 0.7)"         hex --snap 0.7 --out p
+bad "give --node-diameter or --node-radius, not both" hex --node-diameter 0.01 --node-radius 0.005 --out p
+bad "--node-radius must be > 0 (got 0)"      hex --node-radius 0 --out p
+bad "give --hex-node-diameter or --hex-node-radius, not both" compound --hex-node-diameter 0.01 --hex-node-radius 0.005 --out p
 bad "--out is required"                      hex --width 2
 bad "--width needs a value"                  hex --width
 bad "--zlo must be below the nodes (got 0.5)" hex --zlo 0.5 --out p
@@ -120,6 +123,10 @@ done
 grep -q '"inertia"' truncated-cube.json || fail "truncated-cube.json lacks the inertia tensor"
 left=$(ls -A | grep tmp)
 [ -z "$left" ] || fail "temporary files left: $left"
+# A node size given as a radius is twice that as the diameter column of the data file.
+"$GEN" square --node-radius 0.004 --out sq_r >/dev/null || fail "square --node-radius failed"
+awk '/^Atoms/{a=1; next} a && NF >= 7 {print $6; exit}' sq_r.data | grep -qx "0.008" ||
+    fail "square --node-radius 0.004 did not give diameter 0.008"
 # A failed run does not clobber an earlier good output.
 cp hex.data before.data
 "$GEN" hex --width -1 --out hex 2>/dev/null

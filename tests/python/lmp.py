@@ -23,6 +23,15 @@ boundary f f f
 newton off on
 """
 
+# Deck preamble for bare granular spheres (no bonds) that touch walls or bodies.
+GRANULAR_PREAMBLE = """units si
+atom_style granular
+atom_modify map array sort 0 0
+boundary f f f
+newton off
+communicate single vel yes
+"""
+
 
 _ERROR_LINE = re.compile(r"\bERROR( on proc \d+)?: ")
 

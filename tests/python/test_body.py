@@ -32,13 +32,7 @@ MDROP = 1.0
 
 
 def header(box=5.0, extra=""):
-    return f"""units si
-atom_style granular
-atom_modify map array sort 0 0
-boundary f f f
-newton off
-communicate single vel yes
-{extra}
+    return lmp.GRANULAR_PREAMBLE + f"""{extra}
 region box block {-box} {box} {-box} {box} {-box} {box} units box
 create_box 1 box
 neighbor 0.01 bin

@@ -41,13 +41,7 @@ def stl(tmp_path_factory):
 
 def base_deck(stl_path, mesh_opts="", kn=1e7, gamma=0.0, box=2.0):
     damping = "absolute_damping on" if gamma else ""
-    return f"""units si
-atom_style granular
-atom_modify map array sort 0 0
-boundary f f f
-newton off
-communicate single vel yes
-region box block {-box} {box} {-box} {box} {-box} {box} units box
+    return lmp.GRANULAR_PREAMBLE + f"""region box block {-box} {box} {-box} {box} {-box} {box} units box
 create_box 2 box
 neighbor 0.01 bin
 neigh_modify delay 0

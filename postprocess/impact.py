@@ -25,12 +25,12 @@ import time
 
 import numpy as np
 
-from . import bodyframes, liggghts, punch, vtu, zone
+from . import bodyframes, liggghts, model, punch, solid, vtu
 from .csvio import read_csv, write_csv
 from .datafile import read_data
 from .errors import PostprocessError
 from .meta import PanelInfo, read_json
-from .model import PAPER_BENDING, ROPE_STRENGTH, rope_strength_keyword
+from .model import PAPER_BENDING, rope_strength_keyword
 
 BLOCK = dict(side=0.45, mass=44.5, speed=10.0)
 ALPHA = 0.5            # local damping on the net nodes (paper, dynamic runs)
@@ -52,50 +52,91 @@ DEFAULT_BODY = "analytic"
 FRAMES = 40              # ParaView frames over the impact (inputs/include/frames.in)
 
 
-def _panel_options(kind, quick):
+def _panel_options(kind, quick, width=None, height=None, extra=()):
     """wirenet-gen options; the box is raised so that a rebounding block stays inside it."""
     if kind not in ("hex", "square", "compound"):
         raise PostprocessError(f"impact: unknown panel '{kind}' (hex, square or compound)")
-    size = ["--width", 1.2, "--height", 1.2] if quick else []
-    return [kind, *size, "--zlo", -3.0, "--zhi", 3.0]
+    return [*punch.panel_options(kind, quick, width, height, extra), "--zlo", -3.0, "--zhi", 3.0]
+
+
+class Block:
+    """The block: the generator's truncated cube (analytic or mesh) or a closed STL of the user
+    (mesh), with its mass properties, oriented by the unit quaternion ``quat``. Writes the
+    oriented, centred STL the frames draw (and the mesh path moves) into ``workdir``."""
+
+    def __init__(self, workdir, mass, side, quat=(1.0, 0.0, 0.0, 0.0), stl=None):
+        self.mass, self.quat = float(mass), tuple(float(v) for v in quat)
+        self.path = os.path.join(workdir, "block.stl")
+        rotation = solid.quaternion_matrix(self.quat)
+        if stl is None:
+            liggghts.generate("shape truncated-cube", self.path, "--side", side, "--mass", mass)
+            meta = read_json(os.path.join(workdir, "block.json"))
+            self.side = float(meta["parameters"]["side"])
+            self.cut = float(meta["parameters"]["corner_cut"])
+            inertia, centroid = np.asarray(meta["inertia"], float), np.zeros(3)
+            points, triangles = vtu.read_stl(self.path)
+        else:
+            self.side = self.cut = None
+            points, triangles = vtu.read_stl(stl)
+            _, centroid, inertia = solid.mass_properties(points, triangles, self.mass)
+        points = (points - centroid) @ rotation.T
+        bodyframes.write_stl(self.path, points, triangles, name="block")
+        self.inertia = rotation @ inertia @ rotation.T     # space axes as placed
+        self.half = float(-points[:, 2].min())             # centroid to the lowest point
+        self.radius = float(np.linalg.norm(points[:, :2], axis=1).max())
 
 
 class Setup:
-    """Panel and block files plus every number the deck needs."""
+    """Panel and block files plus every number the deck needs. The keyword options are those of
+    an impact case file (runner/schema.py documents each with its default and source); their
+    defaults are the paper's."""
 
     def __init__(self, workdir, panel, bending=PAPER_BENDING, quick=False, duration=None, relax=None,
                  mass=BLOCK["mass"], side=BLOCK["side"], speed=BLOCK["speed"], alpha=ALPHA,
-                 procs=None, body_model=DEFAULT_BODY, bond_zeta=0.0, rope_strength=False):
-        if not (mass > 0 and side > 0 and speed > 0):
+                 procs=None, body_model=DEFAULT_BODY, bond_zeta=0.0, rope_strength=False,
+                 width=None, height=None, gen_options=(), supports=None, gravity=G,
+                 velocity=None, point=(0.0, 0.0), quat=(1.0, 0.0, 0.0, 0.0), stl=None,
+                 materials=None, restart=None, save_net=False):
+        velocity = (0.0, 0.0, -speed) if velocity is None else tuple(float(v) for v in velocity)
+        if not (mass > 0 and side > 0 and np.linalg.norm(velocity) > 0):
             raise PostprocessError(f"impact: mass, side and speed must be > 0 (got {mass}, "
-                                   f"{side}, {speed})")
+                                   f"{side}, {np.linalg.norm(velocity)})")
         if not 0 <= alpha < 1:
             raise PostprocessError(f"impact: damping alpha must be in [0, 1) (got {alpha})")
-        # the block: an exact truncated cube of fix wirenet/body ("analytic") or the generator's
-        # STL moved by fix wirenet/rigidmesh ("mesh"); the STL is generated in both cases (the
-        # frames draw it, and its JSON gives the inertia)
+        # the block: an exact truncated cube of fix wirenet/body ("analytic") or an STL moved by
+        # fix wirenet/rigidmesh ("mesh"); the STL is written in both cases (the frames draw it)
         self.body_model = punch.check_body_model(body_model)
+        if stl is not None and self.body_model != "mesh":
+            raise PostprocessError("impact: a block STL needs body_model mesh")
         if not 0 <= bond_zeta < 10:
             raise PostprocessError(f"impact: bond damping zeta must be in [0, 10) (got {bond_zeta})")
         self.bond_zeta = bond_zeta
         self.rope_strength = rope_strength   # breakable ropes (materials.in rope_sigma_t/tau_c)
+        self.materials, self.supports, self.g = dict(materials or {}), supports, float(gravity)
+        # successive impacts: start from the net an earlier impact left (its restart file) and
+        # leave the net for the next one
+        self.restart, self.save_net = restart, save_net
+        if restart is not None and not os.path.isfile(restart):
+            raise PostprocessError(f"impact: {restart}: no net from the previous impact")
         os.makedirs(workdir, exist_ok=True)
         self.panel, self.bending, self.quick = panel, bending, quick
-        self.mass, self.side, self.speed, self.alpha = mass, side, speed, alpha
+        self.mass, self.side, self.alpha = mass, side, alpha
+        self.velocity, self.speed = velocity, float(np.linalg.norm(velocity))
+        self.point = tuple(float(v) for v in point)
         self.procs = procs      # MPI processor grid "PX PY PZ" (None: LIGGGHTS chooses)
-        options = _panel_options(panel, quick)
+        options = _panel_options(panel, quick, width, height, gen_options)
         prefix = os.path.join(workdir, "panel")
         self.data_path = liggghts.generate(options[0], prefix, *options[1:])
         self.json_path = prefix + ".json"
-        self.stl = os.path.join(workdir, "block.stl")
-        liggghts.generate("shape truncated-cube", self.stl, "--side", side, "--mass", mass)
-        self.block = read_json(os.path.join(workdir, "block.json"))
+        self.block = Block(workdir, mass, side, quat, stl)
+        self.stl = self.block.path
         self.meta = read_json(self.json_path)
         data = read_data(self.data_path)
         self.layers = 2 if self.meta.get("kind") == "compound" else 1
         # the same stable step as the punch cases (bonds + the 1e9 N/m contact on the lightest
         # node), halved
-        self.dt = DT_SAFETY * punch.stable_dt(data, bending, self.layers, platter=True)
+        self.dt = DT_SAFETY * punch.stable_dt(data, bending, self.layers, platter=True,
+                                              materials=self.materials)
         _, self.node_r = punch.centre_node(data, self.meta)
         self.node_masses = punch.node_masses(data)
         self.duration = duration or (0.06 if quick else 1.0)
@@ -104,31 +145,44 @@ class Setup:
         self.relax_steps = int(math.ceil(self.relax_time / self.dt))
         self.every = max(int(round(OUTPUT_INTERVAL / self.dt)), 1)
         self.dump_every = self.every * max(int(round(DUMP_INTERVAL / OUTPUT_INTERVAL)), 1)
+        self.zone_r = ZONE_RADIUS + 0.2
 
     def variables(self):
-        inertia = np.asarray(self.block["inertia"], float)
+        inertia = self.block.inertia
         half = self.meta["panel"]
         centre = self.meta.get("centre", [0.0, 0.0, 0.0])
-        lowest = self.side / 2      # the generator's cube rests on a face; centroid at 0
-        v = dict(data=os.path.abspath(self.data_path), stl=os.path.abspath(self.stl),
+        v = dict(punch.model_variables(self.materials),
+                 data=os.path.abspath(self.data_path), stl=os.path.abspath(self.stl),
                  mass=repr(self.mass), ixx=repr(inertia[0, 0]), iyy=repr(inertia[1, 1]),
                  izz=repr(inertia[2, 2]), ixy=repr(inertia[0, 1]), ixz=repr(inertia[0, 2]),
-                 iyz=repr(inertia[1, 2]), block_half=repr(lowest), gap=GAP,
-                 foot_r=repr(0.9 * self.side), v0=repr(self.speed), centre_x=repr(centre[0]),
-                 centre_y=repr(centre[1]), half_w=half["width"] / 2, half_h=half["height"] / 2,
-                 node_r=repr(self.node_r), layers=self.layers, bending=self.bending, alpha=self.alpha, alpha_relax=ALPHA_RELAX, g=G,
+                 iyz=repr(inertia[1, 2]), block_half=repr(self.block.half), gap=GAP,
+                 foot_r=repr(0.9 * self.side if self.block.side else self.block.radius),
+                 vx0=repr(self.velocity[0]), vy0=repr(self.velocity[1]),
+                 vz0=repr(self.velocity[2]), quat=" ".join(map(repr, self.block.quat)),
+                 centre_x=repr(centre[0]), centre_y=repr(centre[1]),
+                 impact_x=repr(centre[0] + self.point[0]), impact_y=repr(centre[1] + self.point[1]),
+                 half_w=half["width"] / 2, half_h=half["height"] / 2,
+                 node_r=repr(self.node_r), layers=self.layers, bending=self.bending,
+                 alpha=self.alpha, alpha_relax=ALPHA_RELAX, g=repr(self.g),
                  dt=repr(self.dt), relax_steps=self.relax_steps, steps=self.steps,
                  every=self.every, dump_every=self.dump_every,
-                 zone_r=repr(ZONE_RADIUS + 0.2), out=".",
+                 zone_r=repr(self.zone_r), out=".",
                  frame_every=max(int(math.ceil(self.steps / FRAMES)), 1),
-                 body_model=self.body_model, block_side=repr(float(self.block["parameters"]["side"])),
-                 block_cut=repr(float(self.block["parameters"]["corner_cut"])))
+                 body_model=self.body_model)
+        if self.restart:
+            v.update(net_from="restart", restart=os.path.abspath(self.restart))
+        if self.save_net:
+            v["save_net"] = 1
+        if self.block.side:
+            v.update(block_side=repr(self.block.side), block_cut=repr(self.block.cut))
+        if self.supports:
+            v["supports"] = os.path.abspath(self.supports)
         if self.procs:
             v["procs"] = self.procs
         if self.bond_zeta:
             v["bond_zeta"] = repr(self.bond_zeta)
         if self.rope_strength:
-            v["rope_strength"] = rope_strength_keyword(True)
+            v["rope_strength"] = rope_strength_keyword(True, self.materials)
         return v
 
 
@@ -202,7 +256,7 @@ def energy_budget(table):
     return terms, total, e0, error
 
 
-def momentum_balance(table, dt, every, mass, net_mass):
+def momentum_balance(table, dt, every, mass, net_mass, g=G):
     """Change of the momentum of block + net against the impulses of the support reactions,
     gravity and the damping forces, per row; the error relative to the block's initial
     momentum. Reactions are window means over ``every`` steps: impulse = mean x every x dt."""
@@ -215,7 +269,7 @@ def momentum_balance(table, dt, every, mass, net_mass):
     window = np.r_[0.0, np.diff(steps)] * dt
     j_react = np.cumsum(means * window[:, None], axis=0)
     j_grav = np.zeros_like(dp)
-    j_grav[:, 2] = -(mass + net_mass) * G * steps * dt
+    j_grav[:, 2] = -(mass + net_mass) * g * steps * dt
     j_damp = np.column_stack([t["jx_damp"], t["jy_damp"], t["jz_damp"]])
     j_damp = j_damp - j_damp[0]
     gap = dp - (j_react + j_grav + j_damp)
@@ -237,7 +291,7 @@ def read_ruptures(path, dt, families):
 # ---------------------------------------------------------------------------------------------
 # outputs
 
-def write_outputs(setup, case_dir, workdir, table):
+def write_outputs(setup, case_dir, workdir, table, zones=punch.ZONES):
     """block.csv, edges.csv, energy.csv, momentum.csv, ruptures.csv, zone_forces.csv; returns
     the facts for case.json."""
     t = table
@@ -253,7 +307,7 @@ def write_outputs(setup, case_dir, workdir, table):
               ("time",) + ENERGY_TERMS + ("total", "closure_error"),
               zip(time_, *(terms[k] for k in ENERGY_TERMS), total, error))
     net_mass = float(np.sum(setup.node_masses))
-    mom = momentum_balance(t, setup.dt, setup.every, setup.mass, net_mass)
+    mom = momentum_balance(t, setup.dt, setup.every, setup.mass, net_mass, setup.g)
     write_csv(os.path.join(case_dir, "momentum.csv"),
               ("time", "dpz_block", "dpz_total", "jz_reactions", "jz_gravity", "jz_damping",
                "error"),
@@ -265,12 +319,9 @@ def write_outputs(setup, case_dir, workdir, table):
               ("time", "atom1", "atom2", "type", "family", "x", "y", "z", "elongation"),
               [(r["time"], r["atom1"], r["atom2"], r["type"], r["family"], r["x"], r["y"],
                 r["z"], r["elongation"]) for r in ruptures])
-    times, names, totals, maxima, counts = zone.compute(
-        [os.path.join(workdir, "bonds.dump")], panel, ZONE_RADIUS, setup.dt)
-    times = times - t["step"][0] * setup.dt
-    disp = np.interp(times, time_, t["z"][0] - t["z"])
-    write_csv(os.path.join(case_dir, "zone_forces.csv"), zone.HEADER,
-              zone.rows(times, disp, names, totals, maxima, counts))
+    t0 = t["step"][0] * setup.dt
+    punch.write_zones(case_dir, workdir, setup.json_path, zones, setup.dt,
+                      lambda times: np.interp(times - t0, time_, t["z"][0] - t["z"]))
 
     # the ParaView series CASE/CASE.pvd (net) and CASE/CASE_body.pvd (block); the analytic
     # block's frames are the generator's STL moved to its poses
@@ -303,26 +354,38 @@ def write_outputs(setup, case_dir, workdir, table):
         final_block_velocity=[float(t["vx"][-1]), float(t["vy"][-1]), float(t["vz"][-1])],
         broken_bonds=len(ruptures),
         ruptures=ruptures[:200], ruptures_listed=min(len(ruptures), 200),
-        first_rupture=ruptures[0]["time"] if ruptures else None,
+        first_rupture=rupture_facts(ruptures[0]) if ruptures else None,
         families=sorted(set(panel.families.values())))
 
 
-def run_case(case_dir, panel, bending=PAPER_BENDING, quick=False, np_=1, **setup_options):
+def rupture_facts(r):
+    """A rupture as case.json's first_rupture object (the same keys as the punch cases', with
+    time instead of the platter's displacement and force)."""
+    return dict(time=r["time"], step=r["step"], position=[r["x"], r["y"], r["z"]],
+                bond=dict(atom1=r["atom1"], atom2=r["atom2"], type=r["type"], family=r["family"]))
+
+
+def run_case(case_dir, panel, bending=PAPER_BENDING, quick=False, np_=1, zones=punch.ZONES,
+             **setup_options):
     """One impact case; returns the facts for case.json."""
     setup = Setup(os.path.join(case_dir, "setup"), panel, bending, quick, **setup_options)
+    # bonds.dump holds the bonds within zone_r of the panel centre's axis: every zone inside it
+    setup.zone_r = max(math.hypot(*offset) + radius for _, offset, radius in zones) + 0.2
     workdir = os.path.join(case_dir, "run")
     start = time.time()
     wall = liggghts.run(liggghts.INPUTS / "impact.in", workdir, setup.variables(), np=np_,
                         total_steps=setup.steps, label=f"impact {panel}", dt=setup.dt,
                         phase_marker="impact: block released")
     table = read_impact(workdir)
-    facts = write_outputs(setup, case_dir, workdir, table)
-    facts.update(panel=panel, bending=bending, block=dict(mass=setup.mass, side=setup.side,
-                                                          speed=setup.speed,
-                                                          inertia=setup.block["inertia"]),
+    facts = write_outputs(setup, case_dir, workdir, table, zones)
+    facts.update(panel=panel, bending=bending,
+                 block=dict(mass=setup.mass, side=setup.block.side, speed=setup.speed,
+                            velocity=list(setup.velocity), point=list(setup.point),
+                            quat=list(setup.block.quat), inertia=setup.block.inertia.tolist()),
+                 gravity=setup.g,
                  body_model=setup.body_model, damping=setup.alpha, bond_damping=setup.bond_zeta,
                  dissipation="bond" if setup.bond_zeta else "local",
-                 rope_strength=list(ROPE_STRENGTH) if setup.rope_strength else None,
+                 rope_strength=list(model.rope_strength(setup.materials)) if setup.rope_strength else None,
                  dt=setup.dt, steps=setup.steps,
                  duration=setup.duration, relax_time=setup.relax_time,
                  relax_steps=setup.relax_steps, nodes=int(len(setup.node_masses)),

@@ -46,6 +46,24 @@ PAPER_BENDING = MATERIALS["bending"]    # the calibrated bending fraction of the
 ROPE_STRENGTH = (MATERIALS["rope_sigma_t"], MATERIALS["rope_tau_c"])   # [Pa], see materials.in
 
 
-def rope_strength_keyword(enabled):
+def rope_strength(materials=None):
+    """(SIGMA_T, TAU_C) of the rope [Pa] with a case's overrides."""
+    values = resolve(materials)
+    return (float(values["rope_sigma_t"]), float(values["rope_tau_c"]))
+
+
+def rope_strength_keyword(enabled, materials=None):
     """The rope's bond_coeff tail for a breakable rope ("" keeps the paper's unbreakable one)."""
-    return "strength {!r} {!r}".format(*ROPE_STRENGTH) if enabled else ""
+    return "strength {!r} {!r}".format(*rope_strength(materials)) if enabled else ""
+
+
+def resolve(overrides=None):
+    """The materials.in values with a case's overrides (same names; see runner/schema.py)."""
+    values = dict(MATERIALS)
+    values.update(overrides or {})
+    return values
+
+
+def sw_curve(values):
+    """((strain, stress), ...) of the single wire from a resolved materials dict."""
+    return _curve(values["curve"]) if isinstance(values["curve"], str) else tuple(values["curve"])

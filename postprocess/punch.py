@@ -39,8 +39,8 @@ import time
 import numpy as np
 
 from . import bodyframes, liggghts, vtu, zone
-from .model import (CONTACT, PAPER_BENDING, ROPE, ROPE_STRENGTH, SW_CURVE, WIRE,
-                    rope_strength_keyword)
+from . import model
+from .model import PAPER_BENDING, rope_strength_keyword
 from .csvio import read_csv, write_csv
 from .datafile import read_data
 from .errors import PostprocessError
@@ -53,7 +53,8 @@ from .meta import PanelInfo, read_json
 # centre rests on a point and, once the ropes pull hard enough, slips off sideways at a moment
 # set by round-off, so two runs at different rates part ways there (doc/punch.md).
 PLATTERS = {"cone": dict(radius=0.34, height=0.78, tip_radius=0.02),
-            "spheroid": dict(radius=0.5, height=0.15)}
+            "spheroid": dict(radius=0.5, height=0.15),
+            "sphere": dict(radius=0.5, height=0.5)}
 ALPHA = 0.7          # local damping for the quasi-static runs (PFC's default for static runs)
 CONTACT_ZETA = 0.3   # viscous normal contact damping, fraction of critical on the lightest node
 PAPER_SPEED = 0.01   # m/s
@@ -83,14 +84,19 @@ STL_RESOLUTION = 48  # segments around the axis of the platter STL (mesh path an
 FRAMES = 20          # ParaView frames over the travel (inputs/include/frames.in)
 
 
-def body_shape(platter):
-    """fix wirenet/body shape arguments and local +z axis of a platter: the same solid as the
-    generator's STL (base disc at the reference point, dome or tip towards -z)."""
-    shape = PLATTERS[platter]
-    if platter == "spheroid":
-        return f"spheroid {shape['radius']!r} {shape['radius']!r} {shape['height']!r}", "0 0 1"
-    return (f"cone {shape['radius']!r} {shape['height']!r} {shape.get('tip_radius', 0.0)!r}",
-            "0 0 -1")
+def platter_stl_kind(platter):
+    """wirenet-gen shape of a platter's STL (a sphere is drawn as its lower half-spheroid)."""
+    return "cone" if platter == "cone" else "spheroid"
+
+
+def model_variables(materials):
+    """-var values of materials.in overrides (a curve given as pairs becomes its flat list)."""
+    out = {}
+    for name, value in (materials or {}).items():
+        if isinstance(value, (list, tuple)):
+            value = " ".join(repr(float(x)) for pair in value for x in pair)
+        out[name] = value if isinstance(value, str) else repr(value)
+    return out
 
 
 def crop_stl(path, depth):
@@ -110,15 +116,20 @@ def check_body_model(body_model):
     return body_model
 
 
-def _panel_options(kind, quick):
-    """wirenet-gen options of the panel; quick = a small panel that still holds the platter."""
-    if not quick:
-        return [kind]
-    if kind == "square":       # 4 x 4 cells of 0.3 m: a rope crossing at the panel centre
-        return ["square", "--width", 1.2, "--height", 1.2]
-    if kind == "hex":
-        return ["hex", "--width", 1.2, "--height", 1.2]
-    return ["compound", "--width", 1.2, "--height", 1.2]
+QUICK_SIZE = 1.2   # m: the quick panels (square: 4 x 4 cells of 0.3 m, a rope crossing at the centre)
+
+
+def panel_options(kind, quick, width=None, height=None, extra=()):
+    """wirenet-gen options of the panel; quick without a stated size = a small panel that still
+    holds the load (a case file that states its size keeps it)."""
+    size = []
+    if quick:
+        width, height = (v or QUICK_SIZE for v in (width, height))
+    if width:
+        size += ["--width", width]
+    if height:
+        size += ["--height", height]
+    return [kind, *size, *extra]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -129,47 +140,49 @@ def node_masses(data):
     return data.atoms[:, 6] * math.pi * d ** 3 / 6.0
 
 
-def stable_dt(data, bending, layers, platter=True):
+def stable_dt(data, bending, layers, platter=True, materials=None):
     """Stable step with the true masses: bonds (as bond_style wirenet estimates it: two-node
     frequencies doubled for neighbours in antiphase) plus the stiffest contact on the lightest
-    node, combined as omega^2 = omega_bond^2 + omega_contact^2."""
+    node, combined as omega^2 = omega_bond^2 + omega_contact^2. ``materials``: overrides of
+    materials.in (model.resolve). The one time-step estimator of the punch and impact cases."""
+    mat = model.resolve(materials)
     ids = data.atoms[:, 0].astype(int)
     index = {i: k for k, i in enumerate(ids)}
     mass = node_masses(data)
     radius = data.atoms[:, 5] / 2
     pos = data.atoms[:, 2:5]
     w2 = 0.0
-    eps1, sig1 = SW_CURVE[0]
-    rope_r = ROPE["rope_d"] / 2
+    eps1, sig1 = model.sw_curve(mat)[0]
+    rope_r = mat["rope_d"] / 2
     area = math.pi * rope_r ** 2
     inertia = math.pi * rope_r ** 4 / 4
-    shear_mod = ROPE["rope_E"] / (2 * (1 + ROPE["rope_nu"]))
+    shear_mod = mat["rope_E"] / (2 * (1 + mat["rope_nu"]))
     for _, btype, a1, a2 in data.bonds.astype(int):
         i, j = index[a1], index[a2]
         l0 = float(np.linalg.norm(pos[i] - pos[j]))
         inv_m = 1 / mass[i] + 1 / mass[j]
         if btype in (1, 2, 3):
-            d = WIRE["selvedge_d"] if btype == 3 else WIRE["wire_d"]
+            d = mat["selvedge_d"] if btype == 3 else mat["wire_d"]
             k = sig1 * math.pi * d * d / 4 / (eps1 * l0)
             w2 = max(w2, 2 * (2 * k if btype == 1 else k) * inv_m)
         else:
-            kax = ROPE["rope_E"] * area / l0
-            kb = bending * ROPE["rope_E"] * inertia / l0
+            kax = mat["rope_E"] * area / l0
+            kb = bending * mat["rope_E"] * inertia / l0
             kt = bending * shear_mod * 2 * inertia / l0
             kr = 6 * kb + 2 * kt
             inv_i = 1 / (0.4 * mass[i] * radius[i] ** 2) + 1 / (0.4 * mass[j] * radius[j] ** 2)
             w2 = max(w2, 2 * max(kax, 12 * kb / l0 ** 2) * inv_m, 2 * kr * inv_i)
     m_min = float(mass.min())
     if platter or layers > 1:
-        w2 += (2.0 if layers > 1 else 1.0) * (CONTACT["kn"] + 2.5 * CONTACT["ks"]) / m_min
+        w2 += (2.0 if layers > 1 else 1.0) * (mat["kn"] + 2.5 * mat["ks"]) / m_min
     return 2.0 / math.sqrt(w2)
 
 
-def centre_node(data, meta):
-    """The node nearest to the panel centre on the loaded (topmost) layer."""
+def centre_node(data, meta, offset=(0.0, 0.0)):
+    """The node nearest to the panel centre (+ offset in x, y) on the loaded (topmost) layer."""
     z = data.atoms[:, 4]
     top = z >= z.max() - 1e-9
-    centre = np.asarray(meta["centre"], float)
+    centre = np.asarray(meta["centre"], float)[:2] + np.asarray(offset, float)
     d = np.hypot(data.atoms[:, 2] - centre[0], data.atoms[:, 3] - centre[1])
     d[~top] = np.inf
     k = int(np.argmin(d))
@@ -177,91 +190,131 @@ def centre_node(data, meta):
 
 
 class Setup:
-    """Everything a punch run needs; .variables(speed, out) gives the deck's -var values."""
+    """Everything a punch run needs; .variables(speed, out) gives the deck's -var values.
+
+    The keyword options are those of a punch case file (runner/schema.py documents each with its
+    default and source); their defaults are the paper's."""
 
     def __init__(self, workdir, panel, platter, bending=PAPER_BENDING, quick=False, steps_per_m=None,
                  travel=None, stop_broken=0, body_model=None, resolution=STL_RESOLUTION,
-                 stl_depth=None, rope_strength=False):
-        self.body_model = check_body_model(body_model or DEFAULT_BODY[platter])
+                 stl_depth=None, rope_strength=False, width=None, height=None, gen_options=(),
+                 supports=None, preload_mode=2, preload=0.01, gravity=9.81, speed=PAPER_SPEED,
+                 mass_scaling=True, shape=None, position=(0.0, 0.0), alpha=ALPHA,
+                 contact_zeta=CONTACT_ZETA, slow_travel=None, quasi_static=True, materials=None,
+                 bond_zeta=0.0):
+        self.body_model = check_body_model(body_model or DEFAULT_BODY.get(platter, "analytic"))
         os.makedirs(workdir, exist_ok=True)
         self.panel, self.platter, self.bending, self.quick = panel, platter, bending, quick
         self.rope_strength = rope_strength   # breakable ropes (materials.in rope_sigma_t/tau_c)
+        self.shape = dict(shape or PLATTERS[platter])
+        self.speed, self.gravity, self.alpha = float(speed), float(gravity), float(alpha)
+        self.preload_mode, self.preload = int(preload_mode), float(preload)
+        self.supports, self.materials, self.bond_zeta = supports, dict(materials or {}), bond_zeta
+        self.position = tuple(float(v) for v in position)
+        self.quasi_static = quasi_static
         prefix = os.path.join(workdir, "panel")
-        options = _panel_options(panel, quick)
+        options = panel_options(panel, quick, width, height, gen_options)
         self.data_path = liggghts.generate(options[0], prefix, *options[1:])
         self.json_path = prefix + ".json"
-        shape = PLATTERS[platter]
         # the STL: the body itself on the mesh path, only the frames' drawing with the analytic one
         self.resolution = int(resolution)
         self.stl = os.path.join(workdir, f"{platter}.stl")
-        tip = ["--tip-radius", shape["tip_radius"]] if "tip_radius" in shape else []
-        liggghts.generate(f"shape {platter}", self.stl, "--radius", shape["radius"],
-                          "--height", shape["height"], "--resolution", self.resolution, *tip)
+        tip = ["--tip-radius", self.shape["tip_radius"]] if "tip_radius" in self.shape else []
+        liggghts.generate(f"shape {platter_stl_kind(platter)}", self.stl,
+                          "--radius", self.shape["radius"], "--height", self.shape["height"],
+                          "--resolution", self.resolution, *tip)
         if stl_depth:
             crop_stl(self.stl, stl_depth)
         self.meta = read_json(self.json_path)
         data = read_data(self.data_path)
         self.layers = 2 if self.meta.get("kind") == "compound" else 1
-        self.centre_id, self.centre_r = centre_node(data, self.meta)
-        self.dt_true = stable_dt(data, bending, self.layers)
-        dt_pre_true = stable_dt(data, bending, self.layers, platter=False)
+        self.centre_id, self.centre_r = centre_node(data, self.meta, self.position)
+        self.platter_xy = np.asarray(self.meta["centre"], float)[:2] + np.asarray(self.position)
+        self.dt_true = stable_dt(data, bending, self.layers, materials=self.materials)
+        dt_pre_true = stable_dt(data, bending, self.layers, platter=False, materials=self.materials)
         self.dt_safety = 0.5
         self.travel = travel or (QUICK_TRAVEL[panel] if quick else 0.5)
-        # steps per metre of travel: sets the equivalent speed (see the module docstring)
-        self.steps_per_m = steps_per_m or STEPS_PER_M[panel][1 if quick else 0]
-        dt_needed = 1.0 / (PAPER_SPEED * self.steps_per_m)
-        self.mass_scale = (dt_needed / (self.dt_safety * self.dt_true)) ** 2
-        self.dt = dt_needed
+        self.slow_travel = SLOW_TRAVEL[panel] if slow_travel is None else slow_travel
+        if mass_scaling:
+            # steps per metre of travel: sets the equivalent speed (see the module docstring)
+            self.steps_per_m = steps_per_m or STEPS_PER_M[panel][1 if quick else 0]
+            dt_needed = 1.0 / (self.speed * self.steps_per_m)
+            self.mass_scale = (dt_needed / (self.dt_safety * self.dt_true)) ** 2
+            self.dt = dt_needed
+        else:                 # true masses at the stated speed (a dynamic punch, as YADE's)
+            self.mass_scale = 1.0
+            self.dt = self.dt_safety * self.dt_true
+            self.steps_per_m = 1.0 / (self.speed * self.dt)
         self.dt_preload = max(self.dt, self.dt_safety * dt_pre_true * math.sqrt(self.mass_scale))
         self.stop_broken = stop_broken
-        # viscous normal contact damping (mass-specific, 1/s): CONTACT_ZETA of critical for the
+        # viscous normal contact damping (mass-specific, 1/s): contact_zeta of critical for the
         # lightest (scaled) node on the platter; it damps the ringing of a node riding on the
         # platter, which local damping leaves alone (doc/punch.md), and vanishes at rest
         m_min = float(node_masses(data).min()) * self.mass_scale
-        self.gamma_n = 2 * CONTACT_ZETA * math.sqrt(CONTACT["kn"] / m_min)
+        self.gamma_n = 2 * contact_zeta * math.sqrt(model.resolve(self.materials)["kn"] / m_min)
         period = self.slow_period()
-        self.relax_steps = int(math.ceil(2.5 * period / self.dt_preload))
+        self.relax_steps = max(int(math.ceil(2.5 * period / self.dt_preload)), 10)
 
     def slow_period(self):
         """Fundamental period of the pre-loaded panel (a membrane whose tension carries its
-        weight with a sag of 1 cm: N = p L^2 / (8 s)), with the scaled masses."""
+        weight with a sag of 1 cm: N = p L^2 / (8 s)), with the scaled masses; 0 without
+        gravity (no pre-load to relax)."""
+        if not self.gravity > 0:
+            return 0.0
         width = self.meta["panel"]["width"]
         areal = self.meta["areal_mass"] * self.mass_scale
-        pressure = self.meta["areal_mass"] * 9.81
-        tension = pressure * width ** 2 / (8 * 0.01)
+        pressure = self.meta["areal_mass"] * self.gravity
+        tension = pressure * width ** 2 / (8 * max(self.preload, 0.01))
         c = math.sqrt(tension / areal)
         return 2 * width / (c * math.sqrt(2))
 
     @property
     def equivalent_speed(self):
-        return PAPER_SPEED * math.sqrt(self.mass_scale)
+        return self.speed * math.sqrt(self.mass_scale)
+
+    def body_shape(self):
+        """fix wirenet/body shape arguments and local +z axis of the platter (the same solid as
+        the generator's STL: base disc at the reference point, dome or tip towards -z)."""
+        s = self.shape
+        if self.platter == "cone":
+            return f"cone {s['radius']!r} {s['height']!r} {s.get('tip_radius', 0.0)!r}", "0 0 -1"
+        return f"spheroid {s['radius']!r} {s['radius']!r} {s['height']!r}", "0 0 1"
 
     def variables(self, speed_factor=1.0, every=None, stop_broken=None, travel=None):
-        speed = PAPER_SPEED / speed_factor
+        speed = self.speed / speed_factor
         every = every or max(int(round(0.002 / (speed * self.dt))), 1)   # a row per 2 mm
         ke_every = every // 20 if every % 20 == 0 else 1    # 20 kinetic-energy samples a row
         half = self.meta["panel"]
-        v = dict(data=os.path.abspath(self.data_path), stl=os.path.abspath(self.stl),
-                 platter_h=PLATTERS[self.platter]["height"], half_w=half["width"] / 2,
+        shape, axis = self.body_shape()
+        v = dict(model_variables(self.materials),
+                 data=os.path.abspath(self.data_path), stl=os.path.abspath(self.stl),
+                 platter_h=self.shape["height"], half_w=half["width"] / 2,
                  half_h=half["height"] / 2, centre_id=self.centre_id, centre_r=self.centre_r,
-                 layers=self.layers, bending=self.bending, alpha=ALPHA, mass_scale=repr(self.mass_scale),
-                 dt=repr(self.dt), dt_preload=repr(self.dt_preload), relax_steps=self.relax_steps, speed=repr(speed),
+                 layers=self.layers, bending=self.bending, alpha=self.alpha,
+                 mass_scale=repr(self.mass_scale), g=repr(self.gravity),
+                 dt=repr(self.dt), dt_preload=repr(self.dt_preload), relax_steps=self.relax_steps,
+                 speed=repr(speed), preload_mode=self.preload_mode, preload=repr(self.preload),
                  travel=travel or self.travel, every=every, ke_every=ke_every,
                  dump_every=every * 5, out=".",
                  stop_broken=self.stop_broken if stop_broken is None else stop_broken,
                  gamma_n=repr(self.gamma_n), body_model=self.body_model,
-                 platter_shape=body_shape(self.platter)[0], platter_axis=body_shape(self.platter)[1],
+                 platter_shape=shape, platter_axis=axis,
+                 platter_x=repr(float(self.platter_xy[0])), platter_y=repr(float(self.platter_xy[1])),
                  frame_every=max(int(math.ceil((travel or self.travel) / (speed * self.dt)
                                                / FRAMES)), 1))
+        if self.supports:
+            v["supports"] = os.path.abspath(self.supports)
+        if self.bond_zeta:
+            v["bond_zeta"] = repr(self.bond_zeta)
         if self.rope_strength:
-            v["rope_strength"] = rope_strength_keyword(True)
+            v["rope_strength"] = rope_strength_keyword(True, self.materials)
         return v, every
 
     def displacement(self, steps, speed_factor=1.0):
         """Platter travel after ``steps`` steps (the deck's ramp then constant speed). The mesh
         platter sums the step velocities of its step-wise ramp; the analytic body's ramp is
         linear in time (the two differ by half a step's travel at most)."""
-        speed = PAPER_SPEED / speed_factor
+        speed = self.speed / speed_factor
         nramp = math.ceil(2 * 0.002 / (speed * self.dt))
         steps = np.asarray(steps, float)
         if self.body_model == "analytic":
@@ -276,17 +329,18 @@ class Setup:
 # runs
 
 def run_pair(setup, case_dir, np_=1):
-    """The case at the chosen rate (case_dir/run) and four times slower (case_dir/slow), side by
-    side (two processes). Returns their folders and wall times."""
+    """The case at the chosen rate (case_dir/run) and, when the quasi-static check is on, four
+    times slower (case_dir/slow), side by side (two processes). Returns their folders and wall
+    times."""
     results, errors = {}, []
 
     def one(name, factor):
         workdir = os.path.join(case_dir, name)
         # the comparison ends at the first rupture: the slow run stops there
         slow = factor > 1
-        travel = setup.travel * (SLOW_TRAVEL[setup.panel] if slow and not setup.quick else 1.0)
+        travel = setup.travel * (setup.slow_travel if slow and not setup.quick else 1.0)
         variables, every = setup.variables(factor, stop_broken=1 if slow else None, travel=travel)
-        steps = int(math.ceil(travel / (PAPER_SPEED / factor * setup.dt)))
+        steps = int(math.ceil(travel / (setup.speed / factor * setup.dt)))
         try:
             # the pre-load's length is not known in advance (it relaxes until the sag settles);
             # the deck restarts the step count at 0 after the line "pre-load: centre sag"
@@ -297,8 +351,9 @@ def run_pair(setup, case_dir, np_=1):
         except Exception as exc:      # re-raised below, in the caller's thread
             errors.append(exc)
 
-    threads = [threading.Thread(target=one, args=("run", 1.0)),
-               threading.Thread(target=one, args=("slow", float(SLOW_FACTOR)))]
+    threads = [threading.Thread(target=one, args=("run", 1.0))]
+    if setup.quasi_static:
+        threads.append(threading.Thread(target=one, args=("slow", float(SLOW_FACTOR))))
     for t in threads:
         t.start()
     for t in threads:
@@ -475,22 +530,37 @@ def rope_failure(setup, workdir, families):
     return None
 
 
-def write_outputs(setup, case_dir, workdir, table, radius=1.0):
-    """platter.csv and zone_forces.csv of the run in workdir, into case_dir."""
+ZONES = (("centre", (0.0, 0.0), 1.0),)   # the paper's 1 m circle at the panel centre
+
+
+def write_zones(case_dir, workdir, json_path, zones, dt, displacement):
+    """zone_forces.csv for the first zone and zone_forces_NAME.csv for every other one: zones
+    are (name, (x, y) offset from the panel centre, radius). ``displacement(times)`` gives the
+    load's travel at the dump times. Returns the panel's families."""
+    panel = PanelInfo(json_path)
+    for k, (name, offset, radius) in enumerate(zones):
+        centre = panel.centre + np.r_[np.asarray(offset, float), 0.0]
+        info = PanelInfo(json_path, centre=centre)
+        times, names, totals, maxima, counts = zone.compute(
+            [os.path.join(workdir, "bonds.dump")], info, radius, dt)
+        file = "zone_forces.csv" if k == 0 else f"zone_forces_{name}.csv"
+        write_csv(os.path.join(case_dir, file), zone.HEADER,
+                  zone.rows(times, displacement(times), names, totals, maxima, counts))
+    return panel.families
+
+
+def write_outputs(setup, case_dir, workdir, table, zones=ZONES):
+    """platter.csv and the zone forces of the run in workdir, into case_dir."""
     write_csv(os.path.join(case_dir, "platter.csv"), ("time", "displacement", "force"),
               [(0.0, 0.0, 0.0)] + [(float(t), float(d), float(f)) for t, d, f in
                                    zip(table["time"], table["displacement"], table["force"])])
-    panel = PanelInfo(setup.json_path)
-    times, names, totals, maxima, counts = zone.compute(
-        [os.path.join(workdir, "bonds.dump")], panel, radius, setup.dt)
-    disp = setup.displacement(np.round(times / setup.dt))
-    write_csv(os.path.join(case_dir, "zone_forces.csv"), zone.HEADER,
-              zone.rows(times, disp, names, totals, maxima, counts))
+    families = write_zones(case_dir, workdir, setup.json_path, zones, setup.dt,
+                           lambda times: setup.displacement(np.round(times / setup.dt)))
     # the ParaView series CASE/CASE.pvd (net) and CASE/CASE_body.pvd (platter); the analytic
     # body's frames are the generator's STL moved to its poses
     bodyframes.write_body_frames(workdir, setup.stl)
     vtu.write_case_series(case_dir, workdir, setup.data_path, setup.dt)
-    return panel.families
+    return families
 
 
 def preload_facts(workdir):
@@ -502,48 +572,63 @@ def preload_facts(workdir):
     return facts
 
 
-def run_case(case_dir, panel, platter, bending=PAPER_BENDING, quick=False, np_=1, **setup_options):
+def quasi_static_evidence(fast, slow):
+    """The quasi-static evidence of a run (module docstring); the comparison with the slower
+    twin is null when the twin was not run."""
+    n = rupture_limit(fast)
+    ke, eq = kinetic_fraction(fast), equilibrium_error(fast, n)
+    evidence = dict(
+        slow_factor=None, curve_difference=None, curve_difference_with_snaps=None,
+        curve_difference_rms=None, compared_up_to=None, snap_events=snap_events(fast, n),
+        kinetic_energy_fraction=ke, kinetic_energy_fraction_slow=None,
+        kinetic_energy_fraction_with_snaps=kinetic_fraction(fast, calm=False),
+        equilibrium_error=eq, equilibrium_error_slow=None,
+        equilibrium_error_with_snaps=equilibrium_error(fast, n, calm=False),
+        equilibrium_error_after_rupture=equilibrium_error(fast, calm=False),
+        equilibrium_error_of_current=equilibrium_error(fast, n, relative_to_current=True),
+        equilibrium_holds_from=equilibrium_holds_from(fast, n), equilibrium_holds_from_slow=None,
+        passed=bool(ke <= TOLERANCE and eq <= TOLERANCE))
+    if slow is None:
+        return evidence
+    diff = curve_difference(fast, slow)
+    evidence.update(
+        slow_factor=SLOW_FACTOR, curve_difference=diff["max"],
+        curve_difference_with_snaps=diff["max_all"], curve_difference_rms=diff["rms"],
+        compared_up_to=diff["up_to"], snap_events=diff["snap_events"],
+        kinetic_energy_fraction_slow=kinetic_fraction(slow),
+        equilibrium_error_slow=equilibrium_error(slow, rupture_limit(slow)),
+        equilibrium_holds_from_slow=equilibrium_holds_from(slow, rupture_limit(slow)),
+        passed=bool(diff["max"] <= TOLERANCE and evidence["passed"]))
+    return evidence
+
+
+def run_case(case_dir, panel, platter, bending=PAPER_BENDING, quick=False, np_=1, zones=ZONES,
+             **setup_options):
     """One punch case with its quasi-static evidence; returns the facts for case.json."""
     setup = Setup(os.path.join(case_dir, "setup"), panel, platter, bending, quick,
                   **setup_options)
     start = time.time()
     runs = run_pair(setup, case_dir, np_)
     run_dir, wall_fast, _ = runs["run"]
-    slow_dir, wall_slow, _ = runs["slow"]
-    fast, slow = read_punch(run_dir), read_punch(slow_dir)
-    families = write_outputs(setup, case_dir, run_dir, fast)
-    diff = curve_difference(fast, slow)
-    ke = kinetic_fraction(fast)
-    n = rupture_limit(fast)
-    eq = equilibrium_error(fast, n)
+    slow_dir, wall_slow, _ = runs.get("slow", (None, None, None))
+    fast = read_punch(run_dir)
+    slow = read_punch(slow_dir) if slow_dir else None
+    families = write_outputs(setup, case_dir, run_dir, fast, zones)
     rupture = first_rupture(setup, run_dir, fast, families)
     rope_end = rope_failure(setup, run_dir, families)
     facts = dict(
-        panel=panel, platter=platter, bending=bending, platter_shape=PLATTERS[platter],
-        body_model=setup.body_model,
-        speed=PAPER_SPEED, mass_scale=setup.mass_scale, equivalent_speed=setup.equivalent_speed,
+        panel=panel, platter=platter, bending=bending, platter_shape=setup.shape,
+        body_model=setup.body_model, position=list(setup.position),
+        speed=setup.speed, mass_scale=setup.mass_scale, equivalent_speed=setup.equivalent_speed,
         dt=setup.dt, dt_preload=setup.dt_preload, relax_steps=setup.relax_steps,
-        steps_per_metre=setup.steps_per_m, damping=ALPHA, travel=setup.travel,
-        reached=float(fast["displacement"][-1]),
+        steps_per_metre=setup.steps_per_m, damping=setup.alpha, gravity=setup.gravity,
+        travel=setup.travel, reached=float(fast["displacement"][-1]),
         peak_force=float(np.max(fast["force"])), preload=preload_facts(run_dir),
         first_rupture=rupture,
-        rope_strength=list(ROPE_STRENGTH) if setup.rope_strength else None,
+        rope_strength=list(model.rope_strength(setup.materials)) if setup.rope_strength else None,
         first_rope_rupture=rope_end,
         ended_by=("end of travel (ropes unbreakable)" if not setup.rope_strength else
                   "rope failure" if rope_end else "end of travel"),
-        quasi_static=dict(
-            slow_factor=SLOW_FACTOR, curve_difference=diff["max"],
-            curve_difference_with_snaps=diff["max_all"], curve_difference_rms=diff["rms"],
-            compared_up_to=diff["up_to"], snap_events=diff["snap_events"],
-            kinetic_energy_fraction=ke, kinetic_energy_fraction_slow=kinetic_fraction(slow),
-            kinetic_energy_fraction_with_snaps=kinetic_fraction(fast, calm=False),
-            equilibrium_error=eq, equilibrium_error_slow=equilibrium_error(slow,
-                                                                          rupture_limit(slow)),
-            equilibrium_error_with_snaps=equilibrium_error(fast, n, calm=False),
-            equilibrium_error_after_rupture=equilibrium_error(fast, calm=False),
-            equilibrium_error_of_current=equilibrium_error(fast, n, relative_to_current=True),
-            equilibrium_holds_from=equilibrium_holds_from(fast, n),
-            equilibrium_holds_from_slow=equilibrium_holds_from(slow, rupture_limit(slow)),
-            passed=bool(diff["max"] <= TOLERANCE and ke <= TOLERANCE and eq <= TOLERANCE)),
+        quasi_static=quasi_static_evidence(fast, slow),
         run_wall_time=wall_fast, slow_wall_time=wall_slow, pair_wall_time=time.time() - start)
     return facts

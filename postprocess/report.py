@@ -176,7 +176,7 @@ def _verdict(holds):
 
 
 # The impact cases under the second dissipation model (bond damping instead of local damping,
-# postprocess/studies.py) carry this suffix; the claims are evaluated under each model.
+# inputs/cases/*_bonddamp.toml) carry this suffix; the claims are evaluated under each model.
 BOND_SUFFIX = "_bonddamp"
 MODELS = {"local": "local damping (the paper's, alpha 0.5)",
           "bond": "bond damping (momentum-conserving, no local damping)"}
@@ -310,13 +310,14 @@ def fmt(value, unit=""):
 
 
 def fmt_rupture(value):
-    """First rupture of case.json: a time [s] (impact) or the punch's record
-    {displacement, force, bond: {atom1, atom2, family}}."""
+    """First rupture of case.json: {displacement, force, bond: {...}} of a punch or
+    {time, bond: {...}} of an impact (a bare number, from older case files, is a time)."""
     if not isinstance(value, dict):
         return fmt(value, "s")
     bond = value.get("bond") or {}
-    return (f"{fmt(value.get('displacement'), 'm')}, {fmt(value.get('force'), 'N')}, "
-            f"{bond.get('family', '?')} bond {bond.get('atom1', '?')}-{bond.get('atom2', '?')}")
+    where = (f"{fmt(value.get('displacement'), 'm')}, {fmt(value.get('force'), 'N')}"
+             if "displacement" in value else fmt(value.get("time"), "s"))
+    return f"{where}, {bond.get('family', '?')} bond {bond.get('atom1', '?')}-{bond.get('atom2', '?')}"
 
 
 def _when(kind, time, displacement):

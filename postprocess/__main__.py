@@ -1,4 +1,4 @@
-"""Command line: ``/usr/bin/python3 -m postprocess {zone,vtu,data2vtu,plot,report,study,calibrate} ...``.
+"""Command line: ``/usr/bin/python3 -m postprocess {zone,vtu,data2vtu,plot,report,calibrate} ...``.
 
 Every user error is printed as one line ``postprocess CMD: error: MESSAGE`` (the message names
 the file and line where there is one) and the exit code is 2; outputs are written to temporary
@@ -185,22 +185,6 @@ def _add_report(sub):
     p.set_defaults(run="report")
 
 
-def _add_study(sub):
-    p = sub.add_parser(
-        "study", formatter_class=_formatter,
-        help="run a study or one case (behind ./wirenet run): generate, simulate, report",
-        description="Runs the cases of a study (default 'compound': the paper) or a single case "
-                    "into DIR/CASE/ folders, skips cases already complete, then writes "
-                    "DIR/report.md and DIR/summary.json.")
-    p.add_argument("study", nargs="?", default="compound", metavar="STUDY|CASE",
-                   help="study (compound, calibration, punch, impact) or case (beam, "
-                        "calibration_0.05, punch_hex, impact_square, ...)")
-    p.add_argument("--quick", action="store_true", help="coarse, short versions of the cases")
-    p.add_argument("--np", type=POSITIVE_INT, default=1, metavar="N", help="MPI ranks for LIGGGHTS")
-    p.add_argument("--out", metavar="DIR", help="output folder (default: out/STUDY)")
-    p.set_defaults(run="study")
-
-
 def _add_calibrate(sub):
     p = sub.add_parser(
         "calibrate", formatter_class=_formatter,
@@ -223,7 +207,7 @@ def _add_calibrate(sub):
 def build_parser():
     parser = _Parser(prog="postprocess", description=DESCRIPTION)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
-    for add in (_add_zone, _add_vtu, _add_data2vtu, _add_plot, _add_report, _add_study,
+    for add in (_add_zone, _add_vtu, _add_data2vtu, _add_plot, _add_report,
                 _add_calibrate):
         add(sub)
     return parser
@@ -242,9 +226,6 @@ def _dispatch(args):
     elif args.run == "plot":
         from . import plots
         plots.run(args)
-    elif args.run == "study":
-        from . import studies
-        studies.run(args)
     elif args.run == "report":
         from . import report
         report.run(args)

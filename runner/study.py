@@ -1,143 +1,40 @@
-"""Studies and their cases: what `./wirenet run [STUDY|CASE]` runs, one folder per case.
+"""Studies and their cases: what `./wirenet run [STUDY|CASE|FILE.toml]` runs, one folder per case.
 
-A case writes DIR/CASE/case.json (status, wall time, case facts) next to its CSVs; a case whose
-case.json says "ok" and whose CSVs exist is skipped, so an interrupted study resumes.
+A case is a case file (TOML; doc/case_files.md): the paper's are inputs/cases/NAME.toml, a
+study is a list of them (inputs/studies/NAME.toml: ``cases = [...]``). A case writes
+DIR/CASE/case.json (status, wall time, case facts) next to its CSVs; a case whose case.json says
+"ok", in the same mode (--quick or not) and from the same case-file values, and whose CSVs
+exist, is skipped, so an interrupted study resumes.
 """
 
 import fcntl
+import hashlib
 import json
-import math
 import os
 import shutil
 import signal
 import sys
 import time
-from dataclasses import dataclass
+import tomllib
 
-import numpy as np
+from postprocess import liggghts, report
+from postprocess.output import write_json
 
-from . import impact, liggghts, punch, report
-from .model import PAPER_BENDING
-from .output import write_json, write_text
+from . import casefile, cases
 
-# ---------------------------------------------------------------------------------------------
-# Cantilever check (paper, Fig. 1): 2 m, d = 1 cm, E = 10 GPa, nu = 0.288, tip load.
-
-BEAM = dict(length=2.0, diameter=0.01, young=1e10, nu=0.288, density=7850.0)
-
-
-@dataclass
-class Cantilever:
-    elements: int
-    load: float
-    x: np.ndarray            # node positions along the beam [m]
-    deflection: np.ndarray   # downward deflection [m]
-    analytic: np.ndarray     # P x^2 (3L - x) / (6 f EI)
-
-    @property
-    def tip(self):
-        return float(self.deflection[-1])
-
-    @property
-    def nrmse(self):
-        span = self.analytic.max() - self.analytic.min()
-        return float(np.sqrt(np.mean((self.deflection - self.analytic) ** 2)) / span)
-
-
-def bending_stiffness(bending=1.0):
-    return bending * BEAM["young"] * math.pi * BEAM["diameter"] ** 4 / 64
-
-
-def cantilever(workdir, elements, load=0.01, bending=1.0, shear="eb", node_diameter=0.05,
-               t_end=12.0, dt=None, np_=1):
-    """Clamped chain with a tip load, damped to rest (viscous damping critical for the first
-    bending mode: the rest state does not depend on it). Returns the deflection line."""
-    L, d, rho = BEAM["length"], BEAM["diameter"], BEAM["density"]
-    data = liggghts.generate("beam", os.path.join(workdir, f"beam{elements}"), "--elements", elements,
-                             "--length", L, "--diameter", d, "--node-diameter", node_diameter,
-                             "--density", rho)
-    ei = bending_stiffness(bending)
-    line_mass = rho * math.pi * d * d / 4
-    omega1 = 1.875104 ** 2 * math.sqrt(ei / (line_mass * L ** 4))
-    # a third of the axial wave crossing time of an element keeps Verlet well inside stability
-    dt = dt or 0.35 * (L / elements) / math.sqrt(BEAM["young"] / rho)
-    steps = int(t_end * math.sqrt(1.0 / bending) / dt)
-    variables = dict(data=data, P=load, d=d, E=BEAM["young"], nu=BEAM["nu"], bending=bending,
-                     shear=shear, dt=dt, steps=steps, gamma=2 * omega1 * line_mass * L / elements,
-                     thermo_every=max(steps // 20, 1), out=f"final{elements}.dump")
-    liggghts.run(liggghts.INPUTS / "cantilever.in", workdir, variables, np=np_, total_steps=steps,
-                 label=f"{elements} elements", dt=dt)
-    rows = np.loadtxt(os.path.join(workdir, f"final{elements}.dump"), skiprows=9, ndmin=2)
-    rows = rows[np.argsort(rows[:, 0])]
-    x = np.linspace(0.0, L, elements + 1)  # undeformed positions, where beam theory is written
-    w = -rows[:, 3]
-    return Cantilever(elements, load, x, w, load * x ** 2 * (3 * L - x) / (6 * ei))
-
-
-def run_beam_case(case_dir, quick=False, np_=1):
-    results = [cantilever(case_dir, n, np_=np_) for n in (5, 11, 21)]
-    beam_rows = ["elements,load,tip_deflection,analytic_deflection,nrmse"]
-    line_rows = ["x,deflection,elements,analytic_deflection"]
-    for r in results:
-        beam_rows.append(f"{r.elements},{r.load!r},{r.tip!r},{float(r.analytic[-1])!r},{r.nrmse!r}")
-        line_rows += [f"{x!r},{w!r},{r.elements},{a!r}" for x, w, a in zip(r.x, r.deflection, r.analytic)]
-    write_text(os.path.join(case_dir, "beam.csv"), "\n".join(beam_rows) + "\n")
-    write_text(os.path.join(case_dir, "deflection.csv"), "\n".join(line_rows) + "\n")
-    return {"max_nrmse": max(r.nrmse for r in results), "shear": "eb", "load": results[0].load}
-
-
-# ---------------------------------------------------------------------------------------------
-
-# Quasi-static punch cases (postprocess/punch.py, inputs/punch.in): cone on the square mesh for
-# the bending calibration, semi-spheroid on the hexagonal and the compound panel.
-
-def calibration_runner(fraction):
-    def run_calibration_case(case_dir, quick=False, np_=1):
-        return punch.run_case(case_dir, "square", "cone", bending=fraction, quick=quick, np_=np_)
-    return run_calibration_case
-
-
-def punch_runner(panel, rope_strength=False):
-    def run_punch_case(case_dir, quick=False, np_=1):
-        return punch.run_case(case_dir, panel, "spheroid", bending=PAPER_BENDING, quick=quick,
-                              np_=np_, rope_strength=rope_strength)
-    return run_punch_case
-
-
-def impact_runner(panel, dissipation="local"):
-    """An impact case under local damping (the paper's) or under bond damping instead."""
-    model = dict(alpha=0.0, bond_zeta=impact.BOND_ZETA) if dissipation == "bond" else {}
-
-    def run_impact_case(case_dir, quick=False, np_=1):
-        return impact.run_case(case_dir, panel, bending=PAPER_BENDING, quick=quick, np_=np_,
-                               **model)
-    return run_impact_case
-
-
-CALIBRATION_FRACTIONS = (0.0, 0.01, 0.05, 0.25, 1.0)
-
-CASES = {"beam": ("beam", run_beam_case)}
-for f in CALIBRATION_FRACTIONS:
-    CASES[f"calibration_{f:g}"] = ("calibration", calibration_runner(f))
-for name, panel in (("punch_hex", "hex"), ("punch_compound", "compound")):
-    CASES[name] = ("punch", punch_runner(panel))
-# beyond the paper: the compound punch with breakable ropes, to their failure or the travel's end
-CASES["punch_compound_rope"] = ("punch", punch_runner("compound", rope_strength=True))
-for name, panel in (("impact_hex", "hex"), ("impact_square", "square"),
-                    ("impact_compound", "compound")):
-    CASES[name] = ("impact", impact_runner(panel))
-for name, panel in (("impact_hex", "hex"), ("impact_square", "square"),
-                    ("impact_compound", "compound")):
-    CASES[name + report.BOND_SUFFIX] = ("impact", impact_runner(panel, "bond"))
-
-STUDIES = {"compound": list(CASES),
-           "calibration": [n for n in CASES if n.startswith("calibration_")],
-           "punch": [n for n in CASES if CASES[n][0] in ("calibration", "punch")],
-           "impact": [n for n in CASES if CASES[n][0] == "impact"]}
-# ./wirenet run calibration: the five cone punches; ./wirenet run punch: those and the two
-# semi-spheroid punches
+INPUTS = liggghts.INPUTS
+CASE_DIR = INPUTS / "cases"
+STUDY_DIR = INPUTS / "studies"
+DEFAULT_STUDY = "compound"
 CSV_OF_KIND = {"beam": "beam.csv", "calibration": "platter.csv", "punch": "platter.csv",
                "impact": "block.csv"}
+
+
+def case_fingerprint(case):
+    """sha256 of a case's checked values: a changed case file (or --set) runs the case again."""
+    text = json.dumps(dict(values=case.values, impacts=case.impacts, zones=case.zones),
+                      sort_keys=True, default=str)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
 def _read_meta(case_dir):
@@ -150,12 +47,14 @@ def _read_meta(case_dir):
     return meta if isinstance(meta, dict) else None
 
 
-def _complete(case_dir, kind, quick):
-    """Finished in the requested mode: status ok, the kind's CSV present, and the same --quick
-    setting (a quick result never stands for a full case, nor the other way round)."""
+def _complete(case_dir, kind, quick, fingerprint):
+    """Finished in the requested mode from the same case values: status ok, the kind's CSV
+    present, the same --quick setting (a quick result never stands for a full case, nor the
+    other way round) and the same case fingerprint."""
     meta = _read_meta(case_dir)
     return (meta is not None and meta.get("status") == "ok" and
             bool(meta.get("quick")) == bool(quick) and
+            meta.get("case_fingerprint") == fingerprint and
             os.path.isfile(os.path.join(case_dir, CSV_OF_KIND[kind])))
 
 
@@ -221,13 +120,67 @@ class FolderLock:
         return False
 
 
-def _targets(target):
-    if target in STUDIES:
-        return STUDIES[target]
-    if target in CASES:
-        return [target]
-    known = ", ".join(list(STUDIES) + list(CASES))
-    raise StudyError(f"unknown study or case '{target}' (known: {known})")
+def _names(folder):
+    return sorted(p.stem for p in folder.glob("*.toml"))
+
+
+def _study_files(path):
+    """The case files a study file lists (names of inputs/cases/ or paths relative to it)."""
+    try:
+        with open(path, "rb") as handle:
+            listed = tomllib.load(handle).get("cases")
+    except (OSError, tomllib.TOMLDecodeError) as exc:
+        raise StudyError(f"{path}: {exc}") from None
+    if not isinstance(listed, list) or not listed or not all(isinstance(c, str) for c in listed):
+        raise StudyError(f"{path}: cases: must be a list of case names or files")
+    return [_case_path(c, os.path.dirname(path)) for c in listed]
+
+
+def _case_path(entry, base):
+    if entry.endswith(".toml"):
+        return os.path.normpath(os.path.join(base, entry))
+    path = CASE_DIR / f"{entry}.toml"
+    if not path.is_file():
+        raise StudyError(f"unknown case '{entry}' (inputs/cases/ has: {', '.join(_names(CASE_DIR))})")
+    return str(path)
+
+
+def resolve_target(target):
+    """(name, [case file, ...]) of a study name, a case name, a case file or a study file."""
+    if target.endswith(".toml"):
+        path = os.path.abspath(target)
+        if not os.path.isfile(path):
+            raise StudyError(f"{target}: no such file")
+        try:
+            with open(path, "rb") as handle:
+                is_study = "cases" in tomllib.load(handle)
+        except (OSError, tomllib.TOMLDecodeError):
+            is_study = False      # the case-file reader names the error
+        stem = os.path.splitext(os.path.basename(path))[0]
+        return stem, (_study_files(path) if is_study else [path])
+    if (STUDY_DIR / f"{target}.toml").is_file():
+        return target, _study_files(str(STUDY_DIR / f"{target}.toml"))
+    if (CASE_DIR / f"{target}.toml").is_file():
+        return target, [str(CASE_DIR / f"{target}.toml")]
+    known = ", ".join(_names(STUDY_DIR) + _names(CASE_DIR))
+    raise StudyError(f"unknown study or case '{target}' (known: {known}; or a FILE.toml)")
+
+
+def load_cases(files, quick, overrides):
+    """Every case file read and checked before anything runs (a mistake in the tenth file stops
+    the study before the first case)."""
+    loaded = []
+    for path in files:
+        try:
+            loaded.append(casefile.read(path, overrides, quick))
+        except casefile.CaseFileError as exc:
+            raise StudyError(str(exc)) from None
+    names = [u for c in loaded for u, _ in cases.runner_of(c).units()]
+    dup = sorted({n for n in names if names.count(n) > 1})
+    if dup:
+        raise StudyError(f"two cases of the study share the name {dup[0]} (case folders must "
+                         "differ): rename one case file")
+    return loaded
 
 
 MAX_RANKS = 4096
@@ -238,49 +191,53 @@ def _check_np(np_):
         raise StudyError(f"--np must be an integer from 1 to {MAX_RANKS} (got {np_})")
 
 
-def run_cases(names, out, quick, np_):
+def run_cases(loaded, out, quick, np_):
     """Run the cases not yet complete in this mode; the folder lock is held by the caller."""
-    for k, name in enumerate(names, 1):
-        kind, runner = CASES[name]
+    units = [(case, runner, name, index) for case in loaded
+             for runner in [cases.runner_of(case)] for name, index in runner.units()]
+    for k, (case, runner, name, index) in enumerate(units, 1):
+        kind = cases.record_kind(case)
         case_dir = os.path.join(out, name)
-        prefix = f"[case {k}/{len(names)}] {name}"
-        if _complete(case_dir, kind, quick):
+        prefix = f"[case {k}/{len(units)}] {name}"
+        fingerprint = case_fingerprint(case)
+        if _complete(case_dir, kind, quick, fingerprint):
             print(f"{prefix}: complete, skipped (delete {case_dir} to run it again)", flush=True)
             continue
         _fresh_case_dir(case_dir)
         mode = "quick" if quick else "full"
+        base = dict(kind=kind, quick=quick, mode=mode, np=np_, case_file=case.path,
+                    case_fingerprint=fingerprint, title=case["title"])
         # 'running' until the runner returns: an interrupted or failed case is never 'ok'
-        _write_meta(case_dir, dict(status="running", kind=kind, quick=quick, mode=mode, np=np_))
-        print(f"{prefix}: running ({mode})", flush=True)
+        _write_meta(case_dir, dict(base, status="running"))
+        print(f"{prefix}: running ({mode}, {os.path.relpath(case.path)})", flush=True)
         start = time.time()
         try:
-            facts = runner(case_dir, quick=quick, np_=np_)
+            facts = runner.run(index, case_dir, out, np_)
         except Interrupted:
-            _write_meta(case_dir, dict(status="interrupted", kind=kind, quick=quick, mode=mode,
-                                       np=np_))
+            _write_meta(case_dir, dict(base, status="interrupted"))
             raise
         except Exception as exc:
-            _write_meta(case_dir, dict(status="failed", kind=kind, quick=quick, mode=mode, np=np_,
-                                       error=str(exc)))
+            _write_meta(case_dir, dict(base, status="failed", error=str(exc)))
             raise
         wall = time.time() - start
-        _write_meta(case_dir, dict(status="ok", kind=kind, wall_time=wall, np=np_, quick=quick,
-                                   mode=mode, **facts))
+        _write_meta(case_dir, dict(base, status="ok", wall_time=wall, **facts))
         print(f"{prefix}: done in {wall:.1f} s", flush=True)
+    return [name for _, _, name, _ in units]
 
 
 def run(args):
-    """The ``study`` subcommand behind ``./wirenet run``. Paths are made absolute at once:
-    LIGGGHTS runs inside each case folder, where a relative path would point elsewhere."""
+    """``./wirenet run``. Paths are made absolute at once: LIGGGHTS runs inside each case
+    folder, where a relative path would point elsewhere."""
     previous = {s: signal.signal(s, _raise_interrupt) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
         _check_np(args.np)
-        names = _targets(args.study)
-        out = os.path.abspath(args.out or os.path.join("out", args.study))
+        name, files = resolve_target(args.target or DEFAULT_STUDY)
+        loaded = load_cases(files, args.quick, args.set or ())
+        out = os.path.abspath(args.out or os.path.join("out", name))
         os.makedirs(out, exist_ok=True)
         start = time.time()
         with FolderLock(out):
-            run_cases(names, out, args.quick, args.np)
+            names = run_cases(loaded, out, args.quick, args.np)
             summary = report.build(out, expected=names)
         for claim in summary["claims"]:
             print(f"claim {claim['id']}: {claim['verdict']}")

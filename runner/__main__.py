@@ -1,0 +1,67 @@
+"""Command line behind ./wirenet run and ./wirenet new:
+
+    /usr/bin/python3 -m runner run [STUDY|CASE|FILE.toml] [--quick] [--np N] [--out DIR]
+                                   [--set KEY=VALUE ...]
+    /usr/bin/python3 -m runner new punch|impact      a commented case file on stdout
+    /usr/bin/python3 -m runner keys                  the key tables of doc/case_files.md
+
+User errors are one line and exit code 2.
+"""
+
+import argparse
+import sys
+
+from . import templates
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):
+        self.exit(2, f"wirenet {self.prog.split()[-1]}: error: {message} (see ./wirenet help)\n")
+
+
+def _ranks(text):
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer from 1, got '{text}'") from None
+    return value
+
+
+def build_parser():
+    parser = _Parser(prog="runner")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    run = sub.add_parser("run", help="run a study, a case or a case file")
+    run.add_argument("target", nargs="?", metavar="STUDY|CASE|FILE.toml",
+                     help="a study of inputs/studies/ (default compound: the paper), a case of "
+                          "inputs/cases/, or a case or study file")
+    run.add_argument("--quick", action="store_true", help="coarse, short versions of the cases")
+    run.add_argument("--np", type=_ranks, default=1, metavar="N", help="MPI ranks for LIGGGHTS")
+    run.add_argument("--out", metavar="DIR", help="output folder (default: out/NAME)")
+    run.add_argument("--set", action="append", metavar="KEY=VALUE",
+                     help="override a case-file key (TOML value; repeatable), e.g. "
+                          "--set punch.speed=0.02 --set 'supports.left=\"pinned\"'")
+    new = sub.add_parser("new", help="print a commented case-file template")
+    new.add_argument("kind", choices=("punch", "impact"))
+    sub.add_parser("keys", help="print the key tables of doc/case_files.md")
+    return parser
+
+
+def main(argv=None):
+    args = build_parser().parse_args(argv)
+    if args.command == "run":
+        from postprocess.errors import PostprocessError
+        from . import study
+        try:
+            study.run(args)
+        except PostprocessError as exc:     # a case failed: its folder and LIGGGHTS' ERROR line
+            print(f"wirenet run: error: {exc}", file=sys.stderr, flush=True)
+            return 2
+    elif args.command == "new":
+        sys.stdout.write(templates.template(args.kind))
+    else:
+        sys.stdout.write(templates.key_tables())
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

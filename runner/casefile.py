@@ -1,0 +1,337 @@
+"""Case files: read (tomllib), apply --set overrides, check every key against runner/schema.py,
+fill the defaults. A mistake is one CaseFileError naming the file and the key.
+
+The result, a ``Case``, holds a value for every key of its kind (defaults filled, --quick
+defaults where they differ) and the lists of impacts and output zones.
+"""
+
+import difflib
+import math
+import os
+import tomllib
+from dataclasses import dataclass, field
+
+from .schema import BY_PATH, KEYS, LIST_SECTIONS, SECTIONS
+
+
+class CaseFileError(Exception):
+    """One line: FILE: KEY: what is wrong."""
+
+
+@dataclass
+class Case:
+    name: str                       # the file's stem: the case folder's name
+    path: str                       # absolute path of the case file
+    kind: str
+    values: dict                    # dotted key -> value (every scalar key of the kind)
+    impacts: list = field(default_factory=list)    # one dict name -> value per impact
+    zones: list = field(default_factory=list)      # one dict name -> value per zone
+    quick: bool = False
+
+    def __getitem__(self, path):
+        return self.values[path]
+
+
+# ---------------------------------------------------------------------------------------------
+# reading
+
+def read(path, overrides=(), quick=False, name=None):
+    """The Case of a case file with ``overrides`` ("KEY=VALUE" strings) applied."""
+    path = os.path.abspath(path)
+    try:
+        with open(path, "rb") as handle:
+            raw = tomllib.load(handle)
+    except FileNotFoundError:
+        raise CaseFileError(f"{path}: no such case file") from None
+    except OSError as exc:
+        raise CaseFileError(f"{path}: {exc.strerror}") from None
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise CaseFileError(f"{path}: not valid TOML: {exc}") from None
+    for text in overrides:
+        apply_override(raw, text, path)
+    return Checker(path, raw, quick, name).case()
+
+
+def parse(text, path="<text>", quick=False, name="case"):
+    """The Case of case-file text (tests, templates)."""
+    path = os.path.abspath(path)
+    try:
+        raw = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise CaseFileError(f"{path}: not valid TOML: {exc}") from None
+    return Checker(path, raw, quick, name).case()
+
+
+def apply_override(raw, text, path):
+    """--set KEY=VALUE: VALUE is read as a TOML value (a bare word is text). KEY is dotted;
+    impact.N.KEY / output.zones.N.KEY address the N-th entry (from 1) of a list section, a
+    list section's KEY without N every entry."""
+    key, sep, value = text.partition("=")
+    key = key.strip()
+    if not sep or not key:
+        raise CaseFileError(f"--set {text}: expected KEY=VALUE")
+    try:
+        parsed = tomllib.loads(f"v = {value.strip()}")["v"]
+    except tomllib.TOMLDecodeError:
+        parsed = value.strip()
+    parts = key.split(".")
+    for section in LIST_SECTIONS:
+        depth = section.count(".") + 1
+        if parts[:depth] == section.split(".") and len(parts) > depth:
+            entries = _entries(raw, section)
+            rest = parts[depth:]
+            if rest[0].isdigit():
+                k = int(rest[0])
+                if not 1 <= k <= len(entries):
+                    raise CaseFileError(f"--set {key}: the case file has {len(entries)} "
+                                        f"{section} entries")
+                targets, rest = [entries[k - 1]], rest[1:]
+            else:
+                targets = entries or [_new_entry(raw, section)]
+            for entry in targets:
+                entry[".".join(rest)] = parsed
+            return
+    table = raw
+    for part in parts[:-1]:
+        table = table.setdefault(part, {})
+        if not isinstance(table, dict):
+            raise CaseFileError(f"--set {key}: '{part}' is not a table")
+    table[parts[-1]] = parsed
+
+
+def _entries(raw, section):
+    table = raw
+    for part in section.split(".")[:-1]:
+        table = table.get(part, {})
+    value = table.get(section.split(".")[-1]) if isinstance(table, dict) else None
+    if isinstance(value, dict):
+        return [value]
+    return value if isinstance(value, list) else []
+
+
+def _new_entry(raw, section):
+    table = raw
+    parts = section.split(".")
+    for part in parts[:-1]:
+        table = table.setdefault(part, {})
+    entry = {}
+    table[parts[-1]] = entry
+    return entry
+
+
+# ---------------------------------------------------------------------------------------------
+# checking
+
+def _suggest(word, candidates):
+    match = difflib.get_close_matches(word, candidates, n=1, cutoff=0.6)
+    return f" (did you mean '{match[0]}'?)" if match else ""
+
+
+def _kind_name(value):
+    return {bool: "true/false", int: "a number", float: "a number", str: "text",
+            list: "a list", dict: "a table"}.get(type(value), type(value).__name__)
+
+
+class Checker:
+    """Walks the raw TOML of one case file against the schema."""
+
+    def __init__(self, path, raw, quick, name):
+        self.path, self.raw, self.quick = path, raw, quick
+        self.name = name or os.path.splitext(os.path.basename(path))[0]
+
+    def fail(self, key, message):
+        raise CaseFileError(f"{self.path}: {key}: {message}")
+
+    def case(self):
+        kind = self.raw.get("kind")
+        if kind is None:
+            self.fail("kind", "missing (punch, impact or cantilever)")
+        kind = self.value(BY_PATH["kind"], kind, "kind")
+        flat = {}
+        self.flatten(self.raw, "", flat)
+        values = {}
+        for key in KEYS:
+            if key.per_item or (key.kind and key.kind != kind):
+                continue
+            if key.path in flat:
+                values[key.path] = self.value(key, flat.pop(key.path), key.path)
+            else:
+                values[key.path] = key.default_for(kind, self.quick)
+        for path in flat:
+            key = BY_PATH.get(path)
+            if key is not None and key.kind and key.kind != kind:
+                self.fail(path, f"only for kind '{key.kind}' (this case is '{kind}')")
+            self.unknown(path)
+        if kind != "impact" and "impact" in self.raw:
+            first = _entries(self.raw, "impact")
+            name = next(iter(first[0]), "") if first and isinstance(first[0], dict) else ""
+            self.fail(f"impact.{name}".rstrip("."), f"only for kind 'impact' (this case is '{kind}')")
+        impacts = self.items("impact", kind) if kind == "impact" else []
+        if kind == "impact" and not impacts:
+            impacts = [self.item_defaults("impact", kind)]
+        zones = self.items("output.zones", kind) or [self.item_defaults("output.zones", kind)]
+        case = Case(self.name, self.path, kind, values, impacts, zones, self.quick)
+        self.cross_checks(case)
+        return case
+
+    def flatten(self, table, prefix, out):
+        for name, value in table.items():
+            path = f"{prefix}{name}"
+            if path in LIST_SECTIONS:
+                continue
+            if isinstance(value, dict) and path not in BY_PATH:
+                if path not in SECTIONS:
+                    self.unknown(path)
+                self.flatten(value, path + ".", out)
+            else:
+                out[path] = value
+
+    def unknown(self, path):
+        known = [k.path for k in KEYS] + SECTIONS
+        self.fail(path, "unknown key" + _suggest(path, known))
+
+    def items(self, section, kind):
+        entries = _entries(self.raw, section)
+        if section == "impact" and "impact" in self.raw and not isinstance(
+                self.raw["impact"], (dict, list)):
+            self.fail("impact", "must be a table [impact] or tables [[impact]]")
+        out = []
+        for k, entry in enumerate(entries, 1):
+            if not isinstance(entry, dict):
+                self.fail(f"{section}[{k}]", "must be a table")
+            item = self.item_defaults(section, kind)
+            for name, value in entry.items():
+                path = f"{section}.{name}"
+                key = BY_PATH.get(path)
+                label = f"{section}[{k}].{name}" if len(entries) > 1 else path
+                if key is None:
+                    names = [p.rsplit(".", 1)[1] for p in BY_PATH if p.startswith(section + ".")]
+                    self.fail(label, "unknown key" + _suggest(name, names))
+                item[name] = self.value(key, value, label)
+            out.append(item)
+        return out
+
+    def item_defaults(self, section, kind):
+        return {k.name: k.default_for(kind, self.quick) for k in KEYS
+                if k.per_item and k.section == section}
+
+    # --- one value ----------------------------------------------------------------------------
+    def value(self, key, value, label):
+        check = getattr(self, "_" + key.type.replace("-", "_"))
+        return check(key, value, label)
+
+    def _number(self, key, value, label):
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            self.fail(label, f"must be a number [{key.unit or '-'}], got {_kind_name(value)} "
+                             f"{value!r}")
+        if not math.isfinite(value):
+            self.fail(label, f"must be a finite number, got {value}")
+        low, high = key.low, key.high
+        if low is not None and (value <= low if key.low_open else value < low):
+            self.fail(label, f"must be {'>' if key.low_open else '>='} {low:g}, got {value:g}")
+        if high is not None and value > high:
+            self.fail(label, f"must be <= {high:g}, got {value:g}")
+        return float(value)
+
+    def _text(self, key, value, label):
+        if not isinstance(value, str):
+            self.fail(label, f"must be text, got {_kind_name(value)} {value!r}")
+        return value
+
+    def _file(self, key, value, label):
+        return self._text(key, value, label)
+
+    def _bool(self, key, value, label):
+        if not isinstance(value, bool):
+            self.fail(label, f"must be true or false, got {value!r}")
+        return value
+
+    def _choice(self, key, value, label):
+        if not isinstance(value, str) or value not in key.choices:
+            self.fail(label, f"must be one of {', '.join(key.choices)}, got {value!r}"
+                             + (_suggest(value, key.choices) if isinstance(value, str) else ""))
+        return value
+
+    def _bending(self, key, value, label):
+        if value == "calibrated":
+            return value
+        if isinstance(value, str):
+            self.fail(label, f"must be a number >= 0 or 'calibrated', got {value!r}")
+        return self._number(key, value, label)
+
+    def _vector(self, key, value, label, n):
+        if (not isinstance(value, list) or len(value) != n or
+                any(isinstance(v, bool) or not isinstance(v, (int, float)) for v in value)):
+            self.fail(label, f"must be a list of {n} numbers [{key.unit or '-'}], got {value!r}")
+        if not all(math.isfinite(v) for v in value):
+            self.fail(label, f"must be finite numbers, got {value!r}")
+        return [float(v) for v in value]
+
+    def _vector2(self, key, value, label):
+        return self._vector(key, value, label, 2)
+
+    def _vector3(self, key, value, label):
+        vector = self._vector(key, value, label, 3)
+        if not any(vector):
+            self.fail(label, "must not be zero")
+        return vector
+
+    def _quat(self, key, value, label):
+        q = self._vector(key, value, label, 4)
+        norm = math.sqrt(sum(v * v for v in q))
+        if not norm > 1e-12:
+            self.fail(label, "must be a non-zero quaternion [w, x, y, z]")
+        return [v / norm for v in q]
+
+    def _pairs(self, key, value, label):
+        if not isinstance(value, list) or not value:
+            self.fail(label, f"must be a list of [strain, stress] pairs, got {value!r}")
+        pairs = [self._vector(key, p, f"{label}[{k}]", 2) for k, p in enumerate(value, 1)]
+        strains = [p[0] for p in pairs]
+        if strains[0] <= 0 or any(b <= a for a, b in zip(strains, strains[1:])):
+            self.fail(label, "strains must be > 0 and increasing")
+        if any(p[1] <= 0 for p in pairs):
+            self.fail(label, "stresses must be > 0")
+        return pairs
+
+    def _list_int(self, key, value, label):
+        if (not isinstance(value, list) or not value or
+                any(isinstance(v, bool) or not isinstance(v, int) or v < 1 for v in value)):
+            self.fail(label, f"must be a list of integers >= 1, got {value!r}")
+        return value
+
+    # --- keys that depend on each other ---------------------------------------------------------
+    def cross_checks(self, case):
+        v = case.values
+        if case.kind == "cantilever":
+            return
+        if v["preload.mode"] in ("sag", "settle") and not v["gravity"] > 0:
+            self.fail("preload.mode", f"'{v['preload.mode']}' needs gravity > 0 "
+                                      "(or preload.mode = 'none')")
+        if case.kind == "impact" and v["preload.mode"] == "sag":
+            self.fail("preload.mode", "'sag' is a punch pre-load; an impact case takes "
+                                      "'settle' or 'none'")
+        if case.kind == "punch" and v["punch.platter"] != "cone" and \
+                v["punch.tip_radius"] is not None:
+            self.fail("punch.tip_radius", "only for punch.platter = 'cone'")
+        for k, item in enumerate(case.impacts, 1):
+            label = f"impact[{k}]" if len(case.impacts) > 1 else "impact"
+            if item["block"] == "stl":
+                if not item["stl"]:
+                    self.fail(f"{label}.stl", "block 'stl' needs the STL file")
+                stl = os.path.join(os.path.dirname(self.path), item["stl"])
+                if not os.path.isfile(stl):
+                    self.fail(f"{label}.stl", f"no such file: {stl}")
+                if item["body"] != "mesh":
+                    self.fail(f"{label}.body", "a block STL is moved as a mesh: body = 'mesh'")
+                item["stl"] = os.path.abspath(stl)
+            elif item["stl"]:
+                self.fail(f"{label}.stl", "only for block = 'stl'")
+            if k > 1 and item["body"] != "analytic":
+                self.fail(f"{label}.body", "successive impacts need the analytic block")
+        names = [z["name"] for z in case.zones]
+        if len(set(names)) != len(names):
+            self.fail("output.zones", f"zone names must differ, got {names}")
+        for z in case.zones:
+            if not z["name"].replace("_", "").replace("-", "").isalnum():
+                self.fail("output.zones.name", f"letters, digits, - and _ only, got {z['name']!r}")

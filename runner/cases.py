@@ -1,0 +1,200 @@
+"""From a checked case file (runner/casefile.Case) to its runs: one class per kind of case turns
+the keys into the generator's options and the deck's set-up (postprocess.punch.Setup,
+postprocess.impact.Setup, the cantilever), runs them and returns the facts for case.json.
+
+A case with several [[impact]] entries is a sequence: its units are CASE (the first impact),
+CASE_impact2, ... each a case folder of its own, each starting from the net the previous one
+left (its run/net.restart).
+"""
+
+import json
+import os
+
+from postprocess import impact, punch
+from postprocess.model import MATERIALS, PAPER_BENDING
+
+from . import cantilever, supports
+from .schema import BY_PATH, KEYS
+
+CALIBRATION_FILE = "calibration.json"   # python3 -m postprocess calibrate ... --out DIR/calibration
+
+
+def bending_of(case, study_dir):
+    """(fraction, source) of the rope beams: the case's number, or for 'calibrated' the best
+    fraction of DIR/calibration.json when the calibration has been fitted, else the paper's."""
+    value = case["materials.bending"]
+    if value != "calibrated":
+        return value, "case file"
+    path = os.path.join(study_dir, CALIBRATION_FILE)
+    try:
+        with open(path, encoding="utf-8") as handle:
+            best = json.load(handle)["best_fraction"]
+        if isinstance(best, (int, float)) and best >= 0:
+            return float(best), f"calibrated ({path})"
+    except (OSError, ValueError, KeyError, TypeError):
+        pass
+    return PAPER_BENDING, "the paper's calibrated value (no calibration.json in the study folder)"
+
+
+def materials_of(case):
+    """materials.in overrides: the case's material and contact keys that differ from it."""
+    out = {}
+    for key in KEYS:
+        if key.section not in ("materials", "contact") or key.name in ("bending", "rope_strength",
+                                                                        "zeta"):
+            continue
+        value = case[key.path]
+        if value != key.default:
+            out[key.name] = value
+    return out
+
+
+def generator_options(case):
+    """wirenet-gen options beyond the net and size: only those a case changes, so that a case
+    with the defaults generates the generator's default panel."""
+    v, net = case.values, case["panel.net"]
+    hex_opts, square_opts = [], []
+    if v["panel.placement"] != BY_PATH["panel.placement"].default:
+        hex_opts += ["--placement", v["panel.placement"]]
+    if v["panel.hex_node_radius"] > 0:
+        hex_opts += ["--node-radius", v["panel.hex_node_radius"]]
+    if v["panel.hex_node_mass"] != BY_PATH["panel.hex_node_mass"].default:
+        hex_opts += ["--node-mass", v["panel.hex_node_mass"]]
+    if v["panel.square_node_radius"] > 0:
+        square_opts += ["--node-radius", v["panel.square_node_radius"]]
+    if v["panel.rope_mass"] != BY_PATH["panel.rope_mass"].default:
+        square_opts += ["--rope-mass", v["panel.rope_mass"]]
+    if net == "hex":
+        return hex_opts
+    if net == "square":
+        return square_opts
+    prefixed = [("--hex-" + o[2:]) if isinstance(o, str) and o.startswith("--") and
+                o != "--placement" else o for o in hex_opts]
+    return prefixed + [("--square-" + o[2:]) if o == "--node-radius" else o for o in square_opts]
+
+
+def write_supports(case, setup_dir):
+    """The rendered supports include, or None for the paper's (inputs/include/hold.in)."""
+    chosen = {e: case[f"supports.{e}"] for e in supports.EDGES}
+    if chosen == supports.PAPER:
+        return None
+    os.makedirs(setup_dir, exist_ok=True)
+    path = os.path.join(setup_dir, "supports.in")
+    with open(path, "w", encoding="utf-8") as handle:
+        handle.write(supports.render(chosen))
+    return path
+
+
+def zones_of(case):
+    return tuple((z["name"], tuple(z["centre"]), z["radius"]) for z in case.zones)
+
+
+def common_options(case):
+    return dict(width=case["panel.width"], height=case["panel.height"],
+                gen_options=generator_options(case), gravity=case["gravity"],
+                alpha=case["damping.local"], bond_zeta=case["damping.bond"],
+                materials=materials_of(case), rope_strength=case["materials.rope_strength"])
+
+
+class PunchCase:
+    """A quasi-static punch (postprocess/punch.py, inputs/punch.in)."""
+    kind = "punch"
+
+    def __init__(self, case):
+        self.case = case
+
+    def units(self):
+        return [(self.case.name, 0)]
+
+    def run(self, index, case_dir, study_dir, np_):
+        c = self.case
+        bending, source = bending_of(c, study_dir)
+        platter = c["punch.platter"]
+        shape = dict(punch.PLATTERS[platter])
+        for name in ("radius", "height", "tip_radius"):
+            if c[f"punch.{name}"] is not None:
+                shape[name] = c[f"punch.{name}"]
+        if platter == "sphere" and c["punch.height"] is None:
+            shape["height"] = shape["radius"]
+        options = dict(common_options(c), shape=shape, position=c["punch.position"],
+                       speed=c["punch.speed"], travel=c["punch.travel"] if not c.quick else None,
+                       mass_scaling=c["punch.mass_scaling"],
+                       steps_per_m=c["punch.steps_per_metre"],
+                       quasi_static=c["punch.quasi_static_check"],
+                       slow_travel=c["punch.check_travel"], body_model=c["punch.body"],
+                       contact_zeta=c["contact.zeta"],
+                       preload_mode={"sag": 2, "settle": 1, "none": 0}[c["preload.mode"]],
+                       preload=c["preload.sag"],
+                       supports=write_supports(c, os.path.join(case_dir, "setup")))
+        facts = punch.run_case(case_dir, c["panel.net"], platter, bending, c.quick, np_,
+                               zones=zones_of(c), **options)
+        return dict(facts, bending_source=source)
+
+
+class ImpactCase:
+    """One block impact or a sequence of them on the same net (postprocess/impact.py,
+    inputs/impact.in)."""
+    kind = "impact"
+
+    def __init__(self, case):
+        self.case = case
+
+    def units(self):
+        n = len(self.case.impacts)
+        return [(self.case.name if k == 0 else f"{self.case.name}_impact{k + 1}", k)
+                for k in range(n)]
+
+    def run(self, index, case_dir, study_dir, np_):
+        c = self.case
+        item = c.impacts[index]
+        bending, source = bending_of(c, study_dir)
+        previous = None
+        if index > 0:
+            name = self.units()[index - 1][0]
+            previous = os.path.join(study_dir, name, "run", "net.restart")
+        settle = c["preload.settle_time"] if c["preload.mode"] == "settle" else 0.0
+        options = dict(common_options(c), mass=item["mass"], side=item["side"],
+                       velocity=item["velocity"], point=item["point"], quat=item["orientation"],
+                       duration=item["duration"], body_model=item["body"],
+                       stl=item["stl"] or None, relax=settle,
+                       supports=write_supports(c, os.path.join(case_dir, "setup")),
+                       restart=previous, save_net=index + 1 < len(c.impacts))
+        facts = impact.run_case(case_dir, c["panel.net"], bending, c.quick, np_,
+                                zones=zones_of(c), **options)
+        return dict(facts, bending_source=source, sequence=dict(
+            index=index + 1, of=len(c.impacts),
+            previous=self.units()[index - 1][0] if index else None))
+
+
+class CantileverCase:
+    """The cantilever check of the beam law (runner/cantilever.py, inputs/cantilever.in)."""
+    kind = "beam"
+
+    def __init__(self, case):
+        self.case = case
+
+    def units(self):
+        return [(self.case.name, 0)]
+
+    def run(self, index, case_dir, study_dir, np_):
+        return cantilever.run_beam_case(case_dir, self.case["cantilever.elements"], np_=np_)
+
+
+RUNNERS = {"punch": PunchCase, "impact": ImpactCase, "cantilever": CantileverCase}
+
+
+def runner_of(case):
+    return RUNNERS[case.kind](case)
+
+
+# the kind a case folder's case.json records, and the CSV that shows it finished
+def record_kind(case):
+    """case.json 'kind': beam, calibration (the cone punches on the square mesh), punch, impact."""
+    if case.kind == "cantilever":
+        return "beam"
+    if case.kind == "punch" and case.name.startswith("calibration"):
+        return "calibration"
+    return case.kind
+
+
+__all__ = ["runner_of", "record_kind", "bending_of", "MATERIALS"]

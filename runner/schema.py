@@ -1,0 +1,212 @@
+"""Every key of a case file, declared once: type, default, unit, range, what it means and where
+the default comes from. The loader (runner/casefile.py), the templates of `./wirenet new` and
+doc/case_files.md are all made from this table; materials and contact defaults come from their
+one source, inputs/include/materials.in.
+"""
+
+from dataclasses import dataclass, field
+
+from postprocess.model import MATERIALS, PAPER_BENDING
+
+from . import supports
+
+KINDS = ("punch", "impact", "cantilever")
+NETS = ("hex", "square", "compound")
+PAPER = "the paper (../mission: Thoeni et al.)"
+MATERIALS_SOURCE = "inputs/include/materials.in (doc/bond_wirenet.md)"
+
+
+@dataclass(frozen=True)
+class Key:
+    """One case-file key. ``kind`` limits it to one kind of case; ``default`` may be a dict per
+    kind; None = derived (``derived`` says from what)."""
+    path: str                   # dotted: section.name
+    type: str                   # number, integer, bool, text, choice, vector2, vector3, quat,
+    #                             pairs, list-int, file
+    default: object
+    unit: str
+    doc: str
+    source: str
+    choices: tuple = ()
+    low: float = None           # inclusive bounds for numbers
+    high: float = None
+    low_open: bool = False      # low excluded
+    kind: str = None            # punch / impact / cantilever only
+    derived: str = ""           # what a None default means
+    quick: object = None        # the --quick value where it differs
+    per_item: bool = False      # a key of each [[impact]] / [[output.zones]] entry
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def section(self):
+        return self.path.rsplit(".", 1)[0] if "." in self.path else ""
+
+    @property
+    def name(self):
+        return self.path.rsplit(".", 1)[-1]
+
+    def default_for(self, kind, quick=False):
+        value = self.default.get(kind) if isinstance(self.default, dict) else self.default
+        if quick and self.quick is not None:
+            value = self.quick.get(kind) if isinstance(self.quick, dict) else self.quick
+        return value
+
+
+def _material(name, unit, doc, low=0.0, low_open=True, type_="number"):
+    return Key(f"materials.{name}", type_, MATERIALS[name], unit, doc, MATERIALS_SOURCE,
+               low=low, low_open=low_open)
+
+
+KEYS = [
+    # --- the case ----------------------------------------------------------------------------
+    Key("kind", "choice", None, "", "what the case does: a quasi-static punch, a block impact, "
+        "or the cantilever check of the beam law (required)", "", choices=KINDS),
+    Key("title", "text", "", "", "one line shown in the report", ""),
+    Key("gravity", "number", 9.81, "m/s2", "gravitational acceleration along -z on net and block "
+        "(0: none)", "standard gravity", low=0.0),
+    # --- panel -------------------------------------------------------------------------------
+    Key("panel.net", "choice", "hex", "", "hex: double-twist hexagonal mesh; square: strand-rope "
+        "square mesh; compound: hex over square (wirenet-gen)", PAPER, choices=NETS),
+    Key("panel.width", "number", 3.0, "m", "panel size along x (edges at +-W/2)", PAPER,
+        low=0.0, low_open=True, quick=1.2),
+    Key("panel.height", "number", 3.0, "m", "panel size along y (edges at +-H/2)", PAPER,
+        low=0.0, low_open=True, quick=1.2),
+    Key("panel.placement", "choice", "twist", "", "hex lattice placement: a twist at the panel "
+        "centre (twist), a single-wire bond at the centre (wire), or started at the lower-left "
+        "corner as YADE's hexaNet does (corner); doc/wirenet-gen.md",
+        "doc/wirenet-gen.md", choices=("twist", "wire", "corner")),
+    Key("panel.hex_node_radius", "number", 0.0, "m", "radius of a hex node sphere; 0: the "
+        "generator's 5.4 mm (a diameter of 4 wire diameters)", "doc/wirenet-gen.md", low=0.0),
+    Key("panel.hex_node_mass", "number", 0.0039, "kg", "mass of a hex node", "doc/wirenet-gen.md "
+        "(the paper's node mass)", low=0.0, low_open=True),
+    Key("panel.square_node_radius", "number", 0.0, "m", "radius of a square-mesh node sphere; "
+        "0: the rope's radius", "doc/wirenet-gen.md", low=0.0),
+    Key("panel.rope_mass", "number", 0.4, "kg/m", "strand-rope mass per metre, lumped to the "
+        "square mesh's nodes", "doc/wirenet-gen.md", low=0.0, low_open=True),
+    # --- supports ----------------------------------------------------------------------------
+    *[Key(f"supports.{edge}", "choice", "sliding", "", f"support of the {edge} edge "
+          f"({where}): pinned (held in x, y, z), sliding (held across the edge line and in z, "
+          "free along the edge), free", PAPER + ", section 3", choices=supports.KINDS)
+      for edge, where in zip(supports.EDGES, ("x = -W/2", "x = +W/2", "y = -H/2", "y = +H/2"))],
+    # --- pre-load ----------------------------------------------------------------------------
+    Key("preload.mode", "choice", {"punch": "sag", "impact": "settle"}, "",
+        "sag: settle under gravity, then move the edges in the plane until the centre hangs "
+        "preload.sag below its generated height (punch only); settle: settle under gravity "
+        "(damped) only; none: start from the generated flat panel",
+        PAPER + ", section 3 (punch: 1 cm pre-load)", choices=("sag", "settle", "none")),
+    Key("preload.sag", "number", 0.01, "m", "target sag of the panel centre for mode sag",
+        PAPER, low=0.0, low_open=True, kind="punch"),
+    Key("preload.settle_time", "number", 0.1, "s", "settling time under gravity before the "
+        "block is released (impact)", "doc/impact.md", low=0.0, kind="impact", quick=0.01),
+    # --- materials (materials.in) ------------------------------------------------------------
+    _material("wire_d", "m", "diameter of the mesh wire (DT and SW bonds)"),
+    _material("selvedge_d", "m", "diameter of the selvedge wire"),
+    Key("materials.curve", "pairs", [list(p) for p in zip(
+        *[iter(float(v) for v in MATERIALS["curve"].split())] * 2)], "-, Pa",
+        "single-wire stress-strain table [[strain, stress], ...] (the (0, 0) point implied); "
+        "the double twist is derived from it", "Thoeni et al. (2013); " + MATERIALS_SOURCE),
+    _material("lambda_eps", "", "double-twist rule: strain factor (Bertrand et al. 2008)"),
+    _material("lambda_k", "", "double-twist rule: stiffness factor (Bertrand et al. 2008)"),
+    _material("wire_nu", "", "Poisson's ratio of the wire (double-twist rule)", low_open=False),
+    _material("rope_d", "m", "strand-rope diameter (beam bonds)"),
+    _material("rope_E", "Pa", "Young's modulus of the rope's equivalent cylinder"),
+    _material("rope_nu", "", "Poisson's ratio of the rope", low_open=False),
+    Key("materials.bending", "bending", "calibrated", "", "bending fraction of the rope beams "
+        "(fraction of E I): a number, or 'calibrated': the fraction the study's calibration "
+        f"cases found when they ran, else the paper's {PAPER_BENDING:g}",
+        PAPER + ", section 4 (calibration)", low=0.0),
+    Key("materials.shear", "choice", MATERIALS["shear"], "", "rope beam shear model: eb "
+        "(Euler-Bernoulli) or pb (parallel bond)", MATERIALS_SOURCE, choices=("eb", "pb")),
+    Key("materials.rope_strength", "bool", False, "", "ropes break (parallel-bond criterion "
+        "with rope_sigma_t, rope_tau_c); false: unbreakable, as in the paper",
+        "doc/bond_wirenet.md"),
+    _material("rope_sigma_t", "Pa", "rope tensile strength (EN 12385-4 MBF of a 10 mm rope on "
+              "the beam's area; approximate)"),
+    _material("rope_tau_c", "Pa", "rope shear strength"),
+    # --- contact -----------------------------------------------------------------------------
+    Key("contact.kn", "number", MATERIALS["kn"], "N/m", "normal contact stiffness, net-body "
+        "and node-node", MATERIALS_SOURCE, low=0.0, low_open=True),
+    Key("contact.ks", "number", MATERIALS["ks"], "N/m", "tangential contact stiffness",
+        MATERIALS_SOURCE, low=0.0, low_open=True),
+    Key("contact.mu", "number", MATERIALS["mu"], "", "friction coefficient", MATERIALS_SOURCE,
+        low=0.0),
+    Key("contact.zeta", "number", {"punch": 0.3, "impact": 0.0}, "", "viscous normal contact "
+        "damping, fraction of critical on the lightest node (punch: kills the ringing of a node "
+        "riding on the platter; impact: none, the paper's)", "doc/punch.md", low=0.0),
+    # --- damping -----------------------------------------------------------------------------
+    Key("damping.local", "number", {"punch": 0.7, "impact": 0.5}, "", "Cundall local damping "
+        "factor on the net nodes", "punch: PFC's static default; impact: " + PAPER, low=0.0,
+        high=0.999),
+    Key("damping.bond", "number", 0.0, "", "viscous bond damping, fraction of each bond's "
+        "critical damping (momentum-conserving; doc/impact.md uses 0.05 with local 0)",
+        "doc/impact.md", low=0.0, high=9.99),
+    # --- punch -------------------------------------------------------------------------------
+    Key("punch.platter", "choice", "spheroid", "", "platter shape: spheroid (the paper's "
+        "semi-spheroid), cone (flat tip), sphere", PAPER, choices=("spheroid", "cone", "sphere"),
+        kind="punch"),
+    Key("punch.radius", "number", None, "m", "platter radius", PAPER, low=0.0, low_open=True,
+        kind="punch", derived="spheroid 0.5, cone 0.34, sphere 0.5"),
+    Key("punch.height", "number", None, "m", "platter height (spheroid: semi-axis along z; "
+        "cone: apex to base; sphere: the radius)", PAPER, low=0.0, low_open=True, kind="punch",
+        derived="spheroid 0.15, cone 0.78, sphere = radius"),
+    Key("punch.tip_radius", "number", None, "m", "cone only: radius of the flat tip",
+        "doc/punch.md", low=0.0, kind="punch", derived="0.02"),
+    Key("punch.position", "vector2", [0.0, 0.0], "m", "platter axis, offset from the panel "
+        "centre in x, y", PAPER, kind="punch"),
+    Key("punch.speed", "number", 0.01, "m/s", "platter speed along -z", PAPER, low=0.0,
+        low_open=True, kind="punch"),
+    Key("punch.travel", "number", 0.5, "m", "platter travel after first touch", PAPER, low=0.0,
+        low_open=True, kind="punch", derived="quick: hex/compound 0.03, square 0.1"),
+    Key("punch.mass_scaling", "bool", True, "", "scale node masses to reach steps_per_metre "
+        "at the stated speed (rate-independent laws: doc/punch.md); false: true masses, half "
+        "the stable step", "doc/punch.md", kind="punch"),
+    Key("punch.steps_per_metre", "number", None, "1/m", "time steps per metre of travel (with "
+        "mass scaling)", "doc/punch.md (quasi-static evidence)", low=0.0, low_open=True,
+        kind="punch", derived="hex/compound 4e6, square 6.25e5; quick 1e6"),
+    Key("punch.quasi_static_check", "bool", True, "", "run the same case 4x slower beside it "
+        "and compare the force curves (the quasi-static proof)", "doc/punch.md", kind="punch"),
+    Key("punch.check_travel", "number", None, "", "fraction of the travel the slower twin runs",
+        "doc/punch.md", low=0.0, low_open=True, high=1.0, kind="punch",
+        derived="square 1, hex/compound 0.25"),
+    Key("punch.body", "choice", "analytic", "", "analytic: exact body (fix wirenet/body); mesh: "
+        "the generator's STL (facet traps of doc/punch.md)", "doc/fix_wirenet_body.md",
+        choices=("analytic", "mesh"), kind="punch"),
+    # --- impact (a table, or [[impact]] entries: successive impacts on the same net) ----------
+    Key("impact.block", "choice", "truncated-cube", "", "the block: the generator's truncated "
+        "cube, or a closed STL surface (impact.stl, body mesh)", PAPER,
+        choices=("truncated-cube", "stl"), kind="impact", per_item=True),
+    Key("impact.stl", "file", "", "", "block STL file (relative to the case file), for block "
+        "'stl'; mass properties of the uniform solid", "", kind="impact", per_item=True),
+    Key("impact.side", "number", 0.45, "m", "truncated cube: side", PAPER, low=0.0,
+        low_open=True, kind="impact", per_item=True),
+    Key("impact.mass", "number", 44.5, "kg", "block mass", PAPER, low=0.0, low_open=True,
+        kind="impact", per_item=True),
+    Key("impact.velocity", "vector3", [0.0, 0.0, -10.0], "m/s", "block velocity at release "
+        "(the panel lies in the x-y plane; -z is into it)", PAPER, kind="impact", per_item=True),
+    Key("impact.point", "vector2", [0.0, 0.0], "m", "where the block starts above the panel: "
+        "offset from the panel centre in x, y", PAPER, kind="impact", per_item=True),
+    Key("impact.orientation", "quat", [1.0, 0.0, 0.0, 0.0], "", "block orientation, unit "
+        "quaternion [w, x, y, z] (1, 0, 0, 0: faces normal to the axes)", "", kind="impact",
+        per_item=True),
+    Key("impact.duration", "number", 1.0, "s", "simulated time after release", PAPER, low=0.0,
+        low_open=True, kind="impact", quick=0.06, per_item=True),
+    Key("impact.body", "choice", "analytic", "", "analytic: exact truncated cube (fix "
+        "wirenet/body); mesh: the STL moved by fix wirenet/rigidmesh",
+        "doc/fix_wirenet_body.md", choices=("analytic", "mesh"), kind="impact", per_item=True),
+    # --- cantilever --------------------------------------------------------------------------
+    Key("cantilever.elements", "list-int", [5, 11, 21], "", "beam discretisations compared with "
+        "the closed form", PAPER + ", Fig. 1", kind="cantilever"),
+    # --- outputs -----------------------------------------------------------------------------
+    Key("output.zones.name", "text", "centre", "", "zone name (the first zone writes "
+        "zone_forces.csv, the others zone_forces_NAME.csv)", "", per_item=True),
+    Key("output.zones.centre", "vector2", [0.0, 0.0], "m", "zone centre, offset from the panel "
+        "centre", PAPER, per_item=True),
+    Key("output.zones.radius", "number", 1.0, "m", "zone radius (bond midpoints within it)",
+        PAPER, low=0.0, low_open=True, per_item=True),
+]
+
+BY_PATH = {k.path: k for k in KEYS}
+SECTIONS = sorted({".".join(k.path.split(".")[:n]) for k in KEYS
+                   for n in range(1, k.path.count(".") + 1)})
+# sections that are lists of tables ([[impact]], [[output.zones]]) or may be
+LIST_SECTIONS = ("impact", "output.zones")

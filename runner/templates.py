@@ -1,0 +1,97 @@
+"""Text made from the schema: the case-file templates of `./wirenet new` and the key tables of
+doc/case_files.md (tests/python/test_case_files.py keeps the doc equal to them)."""
+
+import textwrap
+
+from .schema import KEYS, PAPER
+
+SECTION_TITLES = {
+    "": "the case", "panel": "[panel] the net (wirenet-gen)", "supports": "[supports] edges",
+    "preload": "[preload] before the load", "materials": "[materials] wires and ropes",
+    "contact": "[contact] net-body and node-node contacts", "damping": "[damping]",
+    "punch": "[punch] the platter", "impact": "[impact] the block ([[impact]] tables: "
+    "successive impacts on the same net)", "cantilever": "[cantilever]",
+    "output.zones": "[[output.zones]] circles whose bond tensions are summed per family"}
+
+
+def toml_value(value):
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return f'"{value}"'
+    if isinstance(value, float):
+        return repr(value)
+    if isinstance(value, list):
+        return "[" + ", ".join(toml_value(v) for v in value) + "]"
+    return str(value)
+
+
+def _applies(key, kind):
+    return key.kind in (None, kind) and key.path != "kind"
+
+
+def _sections(kind):
+    order = []
+    for key in KEYS:
+        if _applies(key, kind) and key.section not in order:
+            order.append(key.section)
+    return order
+
+
+def template(kind):
+    """A case file with every key of the kind at its default, each with its meaning, unit and
+    source: it runs as it is (the paper's case of that kind on the hexagonal panel)."""
+    lines = [f"# WireNet case file: a {kind} case (doc/case_files.md). Every key below is at its",
+             "# default; delete what you do not change. Run: ./wirenet run THIS.toml [--quick]",
+             "", f'kind = "{kind}"']
+    for section in _sections(kind):
+        keys = [k for k in KEYS if _applies(k, kind) and k.section == section]
+        if section:
+            header = f"[[{section}]]" if section == "output.zones" else f"[{section}]"
+            lines += ["", header]
+        for key in keys:
+            doc = f"{key.doc}" + (f" [{key.unit}]" if key.unit else "")
+            lines += [f"# {line}" for line in textwrap.wrap(doc, 94)]
+            value = key.default_for(kind)
+            if value is None:
+                lines.append(f"# {key.name} = ...   (default: {key.derived})")
+            else:
+                lines.append(f"{key.name} = {toml_value(value)}")
+    return "\n".join(lines) + "\n"
+
+
+def _default_text(key):
+    if isinstance(key.default, dict):
+        text = ", ".join(f"{k}: {toml_value(v)}" for k, v in key.default.items())
+    elif key.default is None:
+        text = key.derived
+    else:
+        text = toml_value(key.default)
+    if key.quick is not None and not isinstance(key.quick, dict):
+        text += f" (--quick: {toml_value(key.quick)})"
+    return text.replace("|", "\\|")
+
+
+def _type_text(key):
+    if key.choices:
+        return " \\| ".join(key.choices)
+    return {"vector2": "[x, y]", "vector3": "[x, y, z]", "quat": "[w, x, y, z]",
+            "pairs": "[[e, s], ...]", "list-int": "[n, ...]", "bending": "number or "
+            "\"calibrated\""}.get(key.type, key.type)
+
+
+def key_tables():
+    """Markdown tables of every key, one per section."""
+    out = []
+    for section in [""] + sorted({k.section for k in KEYS if k.section},
+                                 key=lambda s: [k.section for k in KEYS].index(s)):
+        keys = [k for k in KEYS if k.section == section]
+        out += [f"### {SECTION_TITLES.get(section, section)}", "",
+                "| key | type | unit | default | only for | meaning | source |",
+                "|---|---|---|---|---|---|---|"]
+        for k in keys:
+            out.append(f"| `{k.name}` | {_type_text(k)} | {k.unit or '-'} | {_default_text(k)} | "
+                       f"{k.kind or ''} | {k.doc.replace('|', '/')} | "
+                       f"{(k.source or '-').replace(PAPER, 'paper')} |")
+        out.append("")
+    return "\n".join(out)

@@ -1,0 +1,239 @@
+"""Case files (doc/case_files.md): the checker's one-line errors, --set, the templates of
+`./wirenet new` (they parse and run), the shipped case files, the supports renderer (the
+paper's rendering is inputs/include/hold.in; the reactions of pinned edges close the momentum
+balance of an oblique impact: test_examples.py), and doc/case_files.md in step with the schema."""
+
+import math
+import os
+import subprocess
+
+import pytest
+
+import lmp
+from runner import casefile, cases, schema, supports, templates
+
+DRIVER = lmp.ROOT / "wirenet"
+
+
+def check(text, quick=False):
+    return casefile.parse(text, path="case.toml", quick=quick)
+
+
+def error_of(text):
+    with pytest.raises(casefile.CaseFileError) as info:
+        check(text)
+    return str(info.value)
+
+
+# --- errors: one line naming the key ---------------------------------------------------------
+
+@pytest.mark.parametrize("text, expected", [
+    ('kind = "punch"\n[panle]\nnet = "hex"\n', "panle: unknown key (did you mean 'panel'?)"),
+    ('kind = "punch"\n[panel]\nnett = "hex"\n', "panel.nett: unknown key (did you mean 'panel.net'?)"),
+    ('kind = "punch"\n[supports]\nfront = "pinned"\n', "supports.front: unknown key"),
+    ('kind = "punch"\n[supports]\nleft = "glued"\n', "supports.left: must be one of pinned, sliding, free"),
+    ('kind = "punch"\n[panel]\nwidth = "3"\n', "panel.width: must be a number [m], got text '3'"),
+    ('kind = "punch"\n[panel]\nwidth = -3.0\n', "panel.width: must be > 0, got -3"),
+    ('kind = "punch"\n[panel]\nwidth = nan\n', "panel.width: must be a finite number, got nan"),
+    ('kind = "punch"\n[panel]\nwidth = inf\n', "panel.width: must be a finite number, got inf"),
+    ('kind = "punch"\n[damping]\nlocal = 1.5\n', "damping.local: must be <= 0.999, got 1.5"),
+    ('kind = "punch"\n[punch]\nposition = [0.0]\n', "punch.position: must be a list of 2 numbers"),
+    ('kind = "punch"\n[punch]\nquasi_static_check = 1\n', "punch.quasi_static_check: must be true or false"),
+    ('kind = "punch"\n[punch]\nplatter = "spheriod"\n', "did you mean 'spheroid'?"),
+    ('kind = "punch"\n[impact]\nmass = 10.0\n', "impact.mass: only for kind 'impact'"),
+    ('kind = "impact"\n[punch]\nspeed = 1.0\n', "punch.speed: only for kind 'punch'"),
+    ('kind = "impact"\n[impact]\nmas = 10.0\n', "impact.mas: unknown key (did you mean 'mass'?)"),
+    ('kind = "impact"\n[impact]\nvelocity = [0.0, 0.0, 0.0]\n', "impact.velocity: must not be zero"),
+    ('kind = "impact"\n[impact]\nblock = "stl"\nstl = "nowhere.stl"\nbody = "mesh"\n',
+     "impact.stl: no such file"),
+    ('kind = "impact"\n[impact]\nblock = "stl"\n', "impact.stl: block 'stl' needs the STL file"),
+    ('kind = "impact"\n[preload]\nmode = "sag"\n', "preload.mode: 'sag' is a punch pre-load"),
+    ('kind = "punch"\ngravity = 0.0\n', "preload.mode: 'sag' needs gravity > 0"),
+    ('kind = "fence"\n', "kind: must be one of punch, impact, cantilever"),
+    ('title = "x"\n', "kind: missing"),
+    ('kind = "punch"\n[materials]\ncurve = [[0.01, 1e8], [0.005, 2e8]]\n', "materials.curve: strains must be > 0 and increasing"),
+    ('kind = "punch"\n[materials]\nbending = "paper"\n', "materials.bending: must be a number >= 0 or 'calibrated'"),
+    ('kind = "impact"\n[[impact]]\nmass = 1.0\n[[impact]]\nmass = -1.0\n', "impact[2].mass: must be > 0"),
+    ('kind = "punch"\n[[output.zones]]\nname = "a"\n[[output.zones]]\nname = "a"\n', "output.zones: zone names must differ"),
+    ('kind = "punch"\n[punch]\ntip_radius = 0.01\n', "punch.tip_radius: only for punch.platter = 'cone'"),
+    ('kind = "punch"\npanel = 3\n', "panel: unknown key"),
+    ('kind = "punch"\n[panel\n', "not valid TOML"),
+])
+def test_bad_case_file_is_one_line_naming_the_key(text, expected):
+    message = error_of(text)
+    assert expected in message, message
+    assert "\n" not in message and message.startswith("/") and "case.toml: " in message
+
+
+def test_defaults_are_the_papers():
+    punch = check('kind = "punch"\n')
+    assert punch["panel.width"] == 3.0 and punch["supports.left"] == "sliding"
+    assert punch["damping.local"] == 0.7 and punch["preload.mode"] == "sag"
+    assert punch["materials.wire_d"] == 0.0027 and punch["contact.kn"] == 1e9
+    impact = check('kind = "impact"\n')
+    assert impact["damping.local"] == 0.5 and impact["preload.mode"] == "settle"
+    assert impact.impacts == [dict(block="truncated-cube", stl="", side=0.45, mass=44.5,
+                                   velocity=[0.0, 0.0, -10.0], point=[0.0, 0.0],
+                                   orientation=[1.0, 0.0, 0.0, 0.0], duration=1.0,
+                                   body="analytic")]
+    assert impact.zones == [dict(name="centre", centre=[0.0, 0.0], radius=1.0)]
+    quick = check('kind = "impact"\n', quick=True)
+    assert quick["panel.width"] == 1.2 and quick.impacts[0]["duration"] == 0.06
+    # a stated size is kept under --quick
+    assert check('kind = "punch"\n[panel]\nwidth = 4.0\n', quick=True)["panel.width"] == 4.0
+
+
+def test_materials_defaults_come_from_materials_in():
+    """One source: the schema's material defaults are the values of inputs/include/materials.in,
+    and a case at its defaults passes no material override to the deck."""
+    text = (lmp.ROOT / "inputs" / "include" / "materials.in").read_text()
+    assert "variable rope_E        index 6e10" in text
+    assert schema.BY_PATH["materials.rope_E"].default == 6e10
+    assert cases.materials_of(check('kind = "punch"\n')) == {}
+    changed = cases.materials_of(check('kind = "punch"\n[materials]\nrope_E = 1e11\n'
+                                       '[contact]\nmu = 0.3\n'))
+    assert changed == {"rope_E": 1e11, "mu": 0.3}
+
+
+def test_set_overrides(tmp_path):
+    path = tmp_path / "c.toml"
+    path.write_text('kind = "impact"\n[[impact]]\nmass = 10.0\n[[impact]]\nmass = 20.0\n')
+    case = casefile.read(path, ["panel.width=2.5", "supports.left=pinned", "impact.2.mass=30",
+                                "output.zones.radius=0.5"])
+    assert case["panel.width"] == 2.5 and case["supports.left"] == "pinned"
+    assert [i["mass"] for i in case.impacts] == [10.0, 30.0]
+    assert case.zones[0]["radius"] == 0.5
+    case = casefile.read(path, ["impact.mass=40"])
+    assert [i["mass"] for i in case.impacts] == [40.0, 40.0]
+    with pytest.raises(casefile.CaseFileError, match="impact.3.mass: the case file has 2"):
+        casefile.read(path, ["impact.3.mass=1"])
+    with pytest.raises(casefile.CaseFileError, match="panel.width: must be > 0"):
+        casefile.read(path, ["panel.width=-1"])
+    with pytest.raises(casefile.CaseFileError, match="expected KEY=VALUE"):
+        casefile.read(path, ["panel.width"])
+
+
+@pytest.mark.parametrize("kind", ["punch", "impact"])
+def test_templates_parse_to_the_defaults(kind):
+    template = templates.template(kind)
+    assert check(template).values == check(f'kind = "{kind}"\n').values
+    for key in schema.KEYS:
+        if key.kind in (None, kind) and key.path != "kind":
+            assert f"{key.name} = " in template, key.path
+
+
+def test_shipped_case_files_check():
+    names = sorted(p.stem for p in (lmp.ROOT / "inputs" / "cases").glob("*.toml"))
+    assert {"beam", "punch_hex", "punch_compound", "impact_hex", "impact_square",
+            "impact_compound", "calibration_0.05"} <= set(names)
+    for name in names:
+        case = casefile.read(lmp.ROOT / "inputs" / "cases" / f"{name}.toml")
+        assert case.name == name
+    for path in (lmp.ROOT / "docs" / "examples").glob("*.toml"):
+        casefile.read(path)
+
+
+def test_calibration_fraction_flows_into_the_cases(tmp_path):
+    case = check('kind = "punch"\n')
+    assert cases.bending_of(case, tmp_path)[0] == 0.05            # the paper's
+    (tmp_path / "calibration.json").write_text('{"best_fraction": 0.031}')
+    value, source = cases.bending_of(case, tmp_path)
+    assert value == 0.031 and "calibrated" in source
+    assert cases.bending_of(check('kind = "punch"\n[materials]\nbending = 0.2\n'), tmp_path)[0] == 0.2
+
+
+# --- supports ---------------------------------------------------------------------------------
+
+def test_paper_supports_are_hold_in():
+    assert supports.render(supports.PAPER) == \
+        (lmp.ROOT / "inputs" / "include" / "hold.in").read_text()
+
+
+def test_supports_hold_the_union_at_corners_and_sum_held_components_only():
+    text = supports.render(dict(left="pinned", right="free", bottom="sliding", top="free"))
+    assert "fix             hold_l left setforce 0 0 0" in text
+    assert "fix             hold_r right setforce NULL NULL NULL" in text
+    assert "fix             hold_b bottom setforce NULL 0 0" in text
+    assert "fix             hold_rb corner_rb setforce NULL 0 0" in text   # free + sliding
+    assert "fix             hold_lt corner_lt setforce 0 0 0" in text      # pinned + free
+    assert "fix             hold_rt corner_rt setforce NULL NULL NULL" in text
+    assert "variable        rx equal -(f_hold_l[1]+f_hold_lb[1]+f_hold_lt[1])" in text
+    assert "f_hold_r[" not in text and "f_hold_rt[" not in text
+
+
+def test_supports_in_liggghts_block_what_they_say(tmp_path):
+    """A 3 x 3 grid of nodes typed as a panel's edges (types of doc/file_formats.md) under a
+    uniform force: the rendered supports hold exactly the components they name, and the
+    reactions v_rx v_ry v_rz balance the applied force on the held nodes."""
+    atoms, k = [], 0
+    for j, y in enumerate((-1.0, 0.0, 1.0)):
+        for i, x in enumerate((-1.0, 0.0, 1.0)):
+            k += 1
+            corner, xe, ye = (i != 1 and j != 1), (i != 1 and j == 1), (j != 1 and i == 1)
+            t = 4 if corner else 2 if xe else 3 if ye else 1
+            atoms.append((k, t, x, y, 0.0))
+    chosen = dict(left="pinned", right="sliding", bottom="free", top="sliding")
+    (tmp_path / "supports.in").write_text(supports.render(chosen))
+    data = tmp_path / "grid.data"
+    lines = ["grid", "", "9 atoms", "8 atom types", "", "-2 2 xlo xhi", "-2 2 ylo yhi",
+             "-2 2 zlo zhi", "", "Atoms", ""]
+    lines += [f"{i} {t} 0.1 1000 {x} {y} {z}" for i, t, x, y, z in atoms]
+    data.write_text("\n".join(lines) + "\n")
+    deck = f"""units si
+atom_style sphere
+atom_modify map array sort 0 0
+boundary f f f
+read_data {data}
+variable inc string {lmp.ROOT / 'inputs' / 'include'}
+include ${{inc}}/edges.in
+fix push all addforce 1.0 2.0 3.0
+include {tmp_path / 'supports.in'}
+fix integ all nve/sphere
+timestep 1e-3
+thermo_style custom step v_rx v_ry v_rz
+thermo_modify format float %.10g
+run 10
+"""
+    out = lmp.run_deck(deck, tmp_path)
+    row = lmp.thermo_rows(out)[-1]
+    # held counts: x: left 3 nodes (pinned) + right edge node and 2 corners (sliding) = 6;
+    # y: left 3 (pinned; the left-bottom corner too) + top edge node + right-top corner = 5,
+    # z: every node of the pinned left, the sliding right and top (all but the bottom edge node
+    # and the centre) = 7
+    assert (row["rx"], row["ry"], row["rz"]) == pytest.approx((-6.0, -10.0, -21.0))
+
+
+# --- doc ----------------------------------------------------------------------------------------
+
+def test_doc_key_tables_are_the_schemas():
+    doc = (lmp.ROOT / "doc" / "case_files.md").read_text()
+    assert templates.key_tables() in doc, "doc/case_files.md: regenerate the tables with `PYTHONPATH=. /usr/bin/python3 -P -m runner keys`"
+
+
+# --- the command line -----------------------------------------------------------------------------
+
+def test_bad_case_file_through_the_driver(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text('kind = "punch"\n[suports]\nleft = "pinned"\n')
+    p = subprocess.run([str(DRIVER), "run", str(bad), "--out", str(tmp_path / "out")],
+                       capture_output=True, text=True, timeout=60,
+                       env=dict(os.environ, WIRENET_SETUP="skip",
+                                WIRENET_BUILD=str(lmp.BUILD)))
+    assert p.returncode == 2
+    assert p.stderr.strip().count("\n") == 0, p.stderr
+    assert "suports: unknown key (did you mean 'supports'?)" in p.stderr
+    assert not (tmp_path / "out").exists()
+
+
+def test_new_prints_a_template():
+    p = subprocess.run([str(DRIVER), "new", "punch"], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0 and p.stdout == templates.template("punch")
+    p = subprocess.run([str(DRIVER), "new", "fence"], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 2 and "invalid choice" in p.stderr
+
+
+def test_quaternion_is_normalised():
+    case = check('kind = "impact"\n[impact]\norientation = [2.0, 0.0, 0.0, 0.0]\n')
+    assert case.impacts[0]["orientation"] == [1.0, 0.0, 0.0, 0.0]
+    assert math.isclose(sum(v * v for v in check(
+        'kind = "impact"\n[impact]\norientation = [1.0, 1.0, 0.0, 0.0]\n').impacts[0]["orientation"]), 1.0)

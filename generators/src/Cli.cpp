@@ -44,6 +44,8 @@ void addHexOptions(Options& o, const std::string& pre) {
     o.addString(pre + "node-mass", "0.0039", "hex node mass in kg, or 'wire' (steel wire mass lumped evenly)");
     o.addOptionalNumber(pre + "areal-mass", "kg/m2", "if set, hex node mass = areal mass x W x H / nodes");
     o.addNumber("snap", 0.3, "-", "boundary merge tolerance as a fraction of the shortest lattice bond");
+    o.addString("placement", "twist", "hex lattice: twist (a twist on the centre), wire (a single-wire "
+                "midpoint there) or corner (a twist on the lower-left corner, as YADE's hexaNet)");
 }
 
 // The node sphere's diameter: --node-radius doubled when given (never together with
@@ -192,6 +194,8 @@ HexParams hexParams(const Options& o, const std::string& pre) {
     o.requireLess("--twist-length + --rise", p.twistLength + p.rise, "--height/2", 0.5 * p.height);
     if (!(p.snapFraction < 0.5))
         throw UsageError("--snap must be < 0.5 (got " + o.str("snap") + ")");
+    if (!parsePlacement(o.str("placement"), p.placement))
+        throw UsageError("--placement must be twist, wire or corner (got " + o.str("placement") + ")");
     return p;
 }
 

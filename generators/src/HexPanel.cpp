@@ -10,7 +10,48 @@ double HexParams::swLength() const { return std::hypot(0.5 * axisDistance, rise)
 
 double HexParams::snapTolerance() const { return snapFraction * std::min(twistLength, swLength()); }
 
+const char* placementName(Placement p) {
+    switch (p) {
+        case Placement::Twist: return "twist";
+        case Placement::Wire: return "wire";
+        case Placement::Corner: return "corner";
+    }
+    return "twist";
+}
+
+bool parsePlacement(const std::string& text, Placement& p) {
+    for (Placement c : {Placement::Twist, Placement::Wire, Placement::Corner})
+        if (text == placementName(c)) {
+            p = c;
+            return true;
+        }
+    return false;
+}
+
+Eigen::Vector2d HexParams::latticeOrigin() const {
+    switch (placement) {
+        case Placement::Twist: return {0.0, 0.0};
+        // The SW bond from the top of twist (0, 0) to the bottom of twist (1, 1) has its
+        // midpoint at (a/4, (t + h)/2) from the twist centre: put that midpoint on the origin.
+        case Placement::Wire: return {-0.25 * axisDistance, -0.5 * rowPitch()};
+        // The bottom end of twist (0, 0) on the lower-left corner (YADE's startAtCorner).
+        case Placement::Corner: return {-0.5 * width, -0.5 * height + 0.5 * twistLength};
+    }
+    return {0.0, 0.0};
+}
+
 namespace {
+
+// The lattice origin moved by whole lattice periods ((a/2, t + h) from row to row, a along a
+// row) to within half a row pitch and a/2 of the panel centre, so that the index ranges of
+// build() and estimateNodes() cover the panel for every placement. Twist: (0, 0) unchanged.
+Eigen::Vector2d reducedOrigin(const HexParams& p) {
+    Eigen::Vector2d o = p.latticeOrigin();
+    const double rows = std::round(o.y() / p.rowPitch());
+    o -= rows * Eigen::Vector2d(0.5 * p.axisDistance, p.rowPitch());
+    o.x() -= std::round(o.x() / p.axisDistance) * p.axisDistance;
+    return o;
+}
 
 // Builds the clipped graph: lattice nodes (snapped), boundary crossings (merged), bonds.
 class ClippedGraph {
@@ -159,9 +200,10 @@ NetModel HexPanel::build() const {
     const double X = 0.5 * p_.width, Y = 0.5 * p_.height;
     const double half = 0.5 * p_.axisDistance, pitch = p_.rowPitch(), t = p_.twistLength;
     ClippedGraph g(X, Y, p_.snapTolerance());
+    const Eigen::Vector2d o = reducedOrigin(p_);
 
-    // Row k: twists centred at y = k * pitch (row 0 on the x axis, so the panel is mirror
-    // symmetric in x and y); twist columns at x = q * half with q - k even.
+    // Row k: twists centred at y = k * pitch + o.y; twist columns at x = q * half + o.x with
+    // q - k even. Twist placement: o = 0, row 0 on the x axis, the panel mirror symmetric.
     const int K = int(std::ceil((Y + pitch) / pitch)) + 1;
     const int Q = int(std::ceil(X / half)) + 2;
     const int nq = 2 * Q + 1;
@@ -170,7 +212,7 @@ NetModel HexPanel::build() const {
     for (int k = -K; k <= K; ++k)
         for (int q = -Q; q <= Q; ++q) {
             if ((q - k) % 2 != 0) continue;
-            const double x = q * half, yc = k * pitch;
+            const double x = q * half + o.x(), yc = k * pitch + o.y();
             bottom[slot(k, q)] = g.addLatticeNode({x, yc - 0.5 * t});
             top[slot(k, q)] = g.addLatticeNode({x, yc + 0.5 * t});
         }
@@ -223,6 +265,9 @@ Json HexPanel::cellJson() const {
     c.set("opening_height", p_.twistLength + 2 * p_.rise);
     c.set("nominal", "100 x 80 mm (paper, Pol et al. 2017); see doc/wirenet-gen.md");
     c.set("snap_tolerance", p_.snapTolerance());
+    Json origin = Json::array();
+    origin.push(p_.latticeOrigin().x()).push(p_.latticeOrigin().y());
+    c.set("placement", placementName(p_.placement)).set("lattice_origin", origin);
     return c;
 }
 

@@ -1,8 +1,19 @@
 // Double-twist hexagonal mesh clipped to a W x H panel (twists parallel to y).
 #pragma once
+#include <string>
+
 #include "NetModel.h"
 
 namespace wirenet {
+
+// Where the lattice sits in the panel (doc/wirenet-gen.md, "Lattice placement"):
+// Twist  - the twist of row 0 centred on the origin (mirror symmetric in x and y);
+// Wire   - the midpoint of a single-wire bond on the origin (point symmetric);
+// Corner - a twist from the lower-left corner upwards, as YADE's pack.hexaNet(startAtCorner=True).
+enum class Placement { Twist, Wire, Corner };
+const char* placementName(Placement p);
+// Parses "twist", "wire" or "corner"; false for anything else.
+bool parsePlacement(const std::string& text, Placement& p);
 
 struct HexParams {
     double width = 3.0, height = 3.0;  // panel, m
@@ -17,10 +28,13 @@ struct HexParams {
     double snapFraction = 0.3;         // merge tolerance = fraction x shortest lattice bond
     double z = 0;                      // plane of the layer
     int molecule = 1;
+    Placement placement = Placement::Twist;
 
     double swLength() const;
     double rowPitch() const { return twistLength + rise; }
     double snapTolerance() const;
+    // Centre of the twist of row 0, half-column 0 for the placement (origin for Twist).
+    Eigen::Vector2d latticeOrigin() const;
 };
 
 constexpr double kSteelDensity = 7850.0;  // kg/m3

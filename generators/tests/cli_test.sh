@@ -41,6 +41,9 @@ bad "--snap must be < 0.5 (got 0.7)"         hex --snap 0.7 --out p
 bad "give --node-diameter or --node-radius, not both" hex --node-diameter 0.01 --node-radius 0.005 --out p
 bad "--node-radius must be > 0 (got 0)"      hex --node-radius 0 --out p
 bad "give --hex-node-diameter or --hex-node-radius, not both" compound --hex-node-diameter 0.01 --hex-node-radius 0.005 --out p
+bad "--placement must be twist, wire or corner (got middle)" hex --placement middle --out p
+bad "--placement must be twist, wire or corner (got Corner)" compound --placement Corner --out p
+bad "--placement must not be empty (got '')" hex --placement= --out p
 bad "--out is required"                      hex --width 2
 bad "--width needs a value"                  hex --width
 bad "--zlo must be below the nodes (got 0.5)" hex --zlo 0.5 --out p
@@ -127,6 +130,21 @@ left=$(ls -A | grep tmp)
 "$GEN" square --node-radius 0.004 --out sq_r >/dev/null || fail "square --node-radius failed"
 awk '/^Atoms/{a=1; next} a && NF >= 7 {print $6; exit}' sq_r.data | grep -qx "0.008" ||
     fail "square --node-radius 0.004 did not give diameter 0.008"
+# --placement twist is the default, byte for byte (the header repeats the command line); the
+# JSON records the placement.
+for sub in hex compound; do
+    "$GEN" $sub --placement twist --out "${sub}_twist" >/dev/null || fail "$sub --placement twist failed"
+    cmp -s <(tail -n +2 "$sub.data") <(tail -n +2 "${sub}_twist.data") ||
+        fail "$sub --placement twist differs from the default"
+    grep -q '"placement": "twist"' "$sub.json" || fail "$sub.json lacks \"placement\": \"twist\""
+    for placement in wire corner; do
+        "$GEN" $sub --placement $placement --out "${sub}_$placement" >/dev/null || fail "$sub --placement $placement failed"
+        grep -q "\"placement\": \"$placement\"" "${sub}_$placement.json" || fail "${sub}_$placement.json lacks the placement"
+    done
+done
+# Corner: the first atom is the lower-left corner (-W/2, -H/2), then the top of the edge twist.
+awk '/^Atoms/{a=1; next} a && NF >= 7 {print $2, $3, $4; n++} n == 2 {exit}' hex_corner.data |
+    tr '\n' ' ' | grep -qx "4 -1.5 -1.5 2 -1.5 -1.46 " || fail "hex --placement corner does not start at the corner"
 # A failed run does not clobber an earlier good output.
 cp hex.data before.data
 "$GEN" hex --width -1 --out hex 2>/dev/null

@@ -47,8 +47,8 @@ static double minNodeDistance(const NetModel& m) {
     return d;
 }
 
-// Node set and bond set are invariant under x -> -x and y -> -y (types preserved).
-static bool mirrorSymmetric(const NetModel& m, int axis) {
+// Node set and bond set are invariant under x -> sx x, y -> sy y (types preserved).
+static bool symmetric(const NetModel& m, double sx, double sy) {
     auto key = [](Eigen::Vector3d x) {
         char buf[96];
         std::snprintf(buf, sizeof buf, "%.9f %.9f %.9f", x.x() + 0.0, x.y() + 0.0, x.z() + 0.0);
@@ -59,7 +59,8 @@ static bool mirrorSymmetric(const NetModel& m, int axis) {
     std::vector<int> image(m.nodes.size());
     for (size_t i = 0; i < m.nodes.size(); ++i) {
         Eigen::Vector3d x = m.nodes[i].x;
-        x[axis] = -x[axis];
+        x.x() *= sx;
+        x.y() *= sy;
         auto it = index.find(key(x));
         if (it == index.end() || m.nodes[it->second].type != m.nodes[i].type) return false;
         image[i] = it->second;
@@ -71,6 +72,9 @@ static bool mirrorSymmetric(const NetModel& m, int axis) {
         if (!bonds.count({b.type, std::min(a, c), std::max(a, c)})) return false;
     }
     return true;
+}
+static bool mirrorSymmetric(const NetModel& m, int axis) {
+    return axis == 0 ? symmetric(m, -1, 1) : symmetric(m, 1, -1);
 }
 
 // Edge types lie exactly on their edges, interior types strictly inside.
@@ -162,8 +166,11 @@ static void checkHexCounts(const NetModel& m, const HexCounts& c, const char* la
 static void checkHexInvariants(const NetModel& m, const HexParams& p) {
     const double X = p.width / 2, Y = p.height / 2;
     CHECK(edgesExact(m, X, Y, 1, 2, 3, 4), "edge/corner nodes exactly on the edges");
-    CHECK(mirrorSymmetric(m, 0), "mirror symmetry x -> -x");
-    CHECK(mirrorSymmetric(m, 1), "mirror symmetry y -> -y");
+    if (p.placement == Placement::Twist) {
+        CHECK(mirrorSymmetric(m, 0), "mirror symmetry x -> -x");
+        CHECK(mirrorSymmetric(m, 1), "mirror symmetry y -> -y");
+    }
+    if (p.placement == Placement::Wire) CHECK(symmetric(m, -1, -1), "point symmetry (x, y) -> (-x, -y)");
     CHECK(everyNodeBonded(m), "every node has a bond");
     CHECK(noDuplicateBonds(m), "no duplicate bonds");
     CHECK(minNodeDistance(m) >= p.snapTolerance() - 1e-12, "duplicate or too close nodes: %g",
@@ -260,6 +267,128 @@ static void testHex() {
         CHECK_NEAR(w.totalMass(), expect, 1e-9);
         CHECK(w.totalMass() / 9 > 1.0 && w.totalMass() / 9 < 1.6, "wire areal mass %g", w.totalMass() / 9);
     }
+}
+
+// ---- hex lattice placement ------------------------------------------------------------------
+
+using Key = std::pair<long, long>;  // x, y in nm
+static Key key2(double x, double y) { return {nm(x), nm(y)}; }
+
+static std::set<Key> nodeSet(const NetModel& m) {
+    std::set<Key> s;
+    for (const auto& n : m.nodes) s.insert(key2(n.x.x(), n.x.y()));
+    return s;
+}
+
+// Bond type and distance of the bond midpoint nearest to the origin.
+static std::pair<int, double> nearestMidpoint(const NetModel& m) {
+    std::pair<int, double> best{0, 1e300};
+    for (const auto& b : m.bonds) {
+        const double d = (0.5 * (m.nodes[b.a].x + m.nodes[b.b].x)).head<2>().norm();
+        if (d < best.second) best = {b.type, d};
+    }
+    return best;
+}
+
+// YADE's pack.hexaNet convention with startAtCorner=True, corner at (-W/2, -H/2): row i
+// (i = 0, 1, ...) spans y0 + i (t + h) .. y0 + i (t + h) + t; its twists lie at x0 + j a for even
+// i and x0 + a/2 + j a for odd i. True if (x, y) is the end of such a twist (within 1e-9 m).
+static bool onYadeLattice(const HexParams& p, double x, double y) {
+    const double u = (x + p.width / 2) / (p.axisDistance / 2), pitch = p.rowPitch();
+    const long i = std::lround(u);
+    for (double end : {0.0, p.twistLength}) {
+        const double v = (y + p.height / 2 - end) / pitch;
+        const long j = std::lround(v);
+        if (j >= 0 && (i - j) % 2 == 0 && std::abs(u - i) * p.axisDistance / 2 < 1e-9 &&
+            std::abs(v - j) * pitch < 1e-9)
+            return true;
+    }
+    return false;
+}
+
+// The nodes of a YADE hexaNet of ny rows (startAtCorner=True) on the panel, whose width is a
+// multiple of a/2: every twist end with x <= W/2, and the four corners (hexaNet adds the corner
+// spheres that no twist provides).
+static std::set<Key> yadeNodes(const HexParams& p, long ny) {
+    const double x0 = -p.width / 2, y0 = -p.height / 2, a = p.axisDistance;
+    std::set<Key> s;
+    for (long i = 0; i < ny; ++i)
+        for (double x = x0 + (i % 2) * a / 2; x <= -x0 + 1e-9; x += a)
+            for (double y : {y0 + i * p.rowPitch(), y0 + i * p.rowPitch() + p.twistLength}) s.insert(key2(x, y));
+    for (double sx : {-1, 1})
+        for (double sy : {-1, 1}) s.insert(key2(sx * x0, sy * y0));
+    return s;
+}
+
+static void checkCornerPanel(const NetModel& m, const HexParams& p) {
+    const double X = p.width / 2, Y = p.height / 2;
+    bool first = false;
+    long lattice = 0, clipped = 0;
+    for (const auto& n : m.nodes) {
+        if (n.x.x() == -X && std::abs(n.x.y() + Y - p.twistLength) < 1e-9) first = n.type == atype::HexEdgeX;
+        // Off the right and top edges every node is a twist end of the YADE lattice.
+        if (n.x.x() != X && n.x.y() != Y) ++(onYadeLattice(p, n.x.x(), n.x.y()) ? lattice : clipped);
+    }
+    CHECK(first, "corner: no twist from (-W/2, -H/2) to (-W/2, -H/2 + t)");
+    CHECK(clipped == 0, "corner: %ld nodes off the YADE lattice (%ld on it)", clipped, lattice);
+}
+
+static void testHexPlacement() {
+    std::printf("hex lattice placement\n");
+    for (auto [W, H] : std::vector<std::pair<double, double>>{{3, 3}, {2.5, 1.7}, {3.13, 2.91}, {1.0, 1.0}, {4.4, 2.2}}) {
+        HexParams p;
+        p.width = W;
+        p.height = H;
+        const NetModel twist = HexPanel(p).build();
+        p.placement = Placement::Wire;
+        const NetModel wire = HexPanel(p).build();
+        checkHexInvariants(wire, p);
+        const auto [type, dist] = nearestMidpoint(wire);
+        CHECK(type == btype::SW && dist < 1e-9, "wire %g x %g: nearest midpoint type %d at %g", W, H, type, dist);
+        CHECK(nodeSet(wire) != nodeSet(twist), "wire %g x %g: same nodes as twist", W, H);
+        p.placement = Placement::Corner;
+        const NetModel corner = HexPanel(p).build();
+        checkHexInvariants(corner, p);
+        checkCornerPanel(corner, p);
+        std::printf("  %.2f x %.2f: atoms twist %zu wire %zu corner %zu\n", W, H, twist.nodes.size(),
+                    wire.nodes.size(), corner.nodes.size());
+        // Same lattice density: the counts differ only along the edges.
+        for (const NetModel* m : {&wire, &corner})
+            CHECK(std::abs(double(m->nodes.size()) / twist.nodes.size() - 1) < 0.1, "atom count %zu vs %zu",
+                  m->nodes.size(), twist.nodes.size());
+    }
+    // Panels of YADE's own sizes: lx = (nx - 1/2) a (isSymmetric=False) or (nx - 1) a
+    // (isSymmetric=True), ly = ny t + (ny - 1) h. The corner panel has exactly hexaNet's nodes.
+    for (auto [nx, ny] : std::vector<std::pair<long, long>>{{38, 37}, {12, 6}, {7, 3}, {20, 10}})
+        for (bool sym : {false, true}) {
+            HexParams p;
+            p.placement = Placement::Corner;
+            p.width = (nx - (sym ? 1.0 : 0.5)) * p.axisDistance;
+            p.height = ny * p.twistLength + (ny - 1) * p.rise;
+            const NetModel m = HexPanel(p).build();
+            checkHexInvariants(m, p);
+            CHECK(nodeSet(m) == yadeNodes(p, ny), "corner nx %ld ny %ld sym %d: nodes differ from hexaNet", nx, ny, sym);
+            const long twists = sym ? (ny + 1) / 2 * nx + ny / 2 * (nx - 1) : nx * ny;
+            CHECK_EQ(long(m.nodes.size()), 2 * twists + (sym ? (ny % 2 == 0 ? 2 : 0) : 2));
+            // Twists on the x edges run along them: the selvedge replaces their DT bond.
+            const long edgeTwists = sym ? 2 * ((ny + 1) / 2) : ny;
+            CHECK_EQ(countBonds(m, btype::DT), twists - edgeTwists);
+        }
+    // Compound: the hex layer follows the placement; ties still find a hex node nearby.
+    CompoundParams cp;
+    cp.hex.placement = Placement::Corner;
+    cp.tieEvery = 2;
+    CompoundPanel panel(cp);
+    const NetModel c = panel.build();
+    const NetModel h = HexPanel(cp.hex).build();
+    long hexNodes = 0;
+    for (const auto& n : c.nodes) hexNodes += n.molecule == 1;
+    CHECK_EQ(hexNodes, long(h.nodes.size()));
+    CHECK(c.nodes[0].x.x() == -1.5 && c.nodes[0].x.y() == -1.5 && std::abs(c.nodes[1].x.y() + 1.46) < 1e-9,
+          "compound: the hex layer starts at the corner");
+    CHECK_EQ(panel.ties(), 16);
+    for (size_t b = c.bonds.size() - 16; b < c.bonds.size(); ++b)
+        CHECK(c.bondLength(c.bonds[b]) < 0.06, "tie length %g", c.bondLength(c.bonds[b]));
 }
 
 // ---- square panel ---------------------------------------------------------------------------
@@ -563,6 +692,7 @@ static void testWriter() {
 
 int main() {
     testHex();
+    testHexPlacement();
     testSquare();
     testCompound();
     testBeam();

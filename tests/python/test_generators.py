@@ -115,6 +115,107 @@ def test_compound_layers(tmp_path):
     assert cross.sum() == 9 and np.all(bonds[cross, 1] == 2)
 
 
+def check_hex_edges(atoms, width, height):
+    """Every hex node inside the panel, edge types exactly on their edges (doc/file_formats.md)."""
+    x, y, t = atoms[:, 2], atoms[:, 3], atoms[:, 1].astype(int)
+    X, Y = width / 2, height / 2
+    assert np.all(np.abs(x) <= X) and np.all(np.abs(y) <= Y)
+    ex, ey = np.abs(x) == X, np.abs(y) == Y
+    expected = np.where(ex & ey, 4, np.where(ex, 2, np.where(ey, 3, 1)))
+    assert np.array_equal(t, expected)
+    assert (t == 4).sum() == 4
+
+
+def node_keys(atoms):
+    return {(round(x * 1e9), round(y * 1e9), int(t)) for x, y, t in atoms[:, [2, 3, 1]]}
+
+
+@pytest.mark.parametrize("kind", ["hex", "compound"])
+def test_placement_twist_is_the_default(tmp_path, kind):
+    gen(tmp_path, kind, "--out", "default")
+    gen(tmp_path, kind, "--placement", "twist", "--out", "twist")
+    body = [(tmp_path / f"{name}.data").read_text().split("\n", 1)[1] for name in ("default", "twist")]
+    assert body[0] == body[1]
+    for name in ("default", "twist"):
+        cell = json.loads((tmp_path / f"{name}.json").read_text())["cells"]["hex"]
+        assert cell["placement"] == "twist" and cell["lattice_origin"] == [0, 0]
+
+
+@pytest.mark.parametrize("size", [("3", "3"), ("2.5", "1.7"), ("3.13", "2.91")])
+def test_placement_wire(tmp_path, size):
+    gen(tmp_path, "hex", "--width", size[0], "--height", size[1], "--placement", "wire", "--out", "w")
+    _, _, atoms, bonds = read_data(tmp_path / "w.data")
+    check_hex_edges(atoms, float(size[0]), float(size[1]))
+    x = atoms[:, 2:4]
+    mid = np.linalg.norm(0.5 * (x[bonds[:, 2] - 1] + x[bonds[:, 3] - 1]), axis=1)
+    nearest = np.argmin(mid)
+    assert bonds[nearest, 1] == 2 and mid[nearest] < 1e-9
+    # Point symmetric about the SW midpoint, not mirror symmetric (the single wires are inclined).
+    keys = node_keys(atoms)
+    assert {(-x, -y, t) for x, y, t in keys} == keys
+    assert {(-x, y, t) for x, y, t in keys} != keys
+    cell = json.loads((tmp_path / "w.json").read_text())["cells"]["hex"]
+    assert cell["placement"] == "wire"
+    assert np.allclose(cell["lattice_origin"], [-0.02, -0.04], atol=1e-15)
+
+
+def yade_hexanet_nodes(nx, ny, a, t, h):
+    """Node centres of YADE's pack.hexaNet(startAtCorner=True, isSymmetric=False) relative to its
+    lower-left corner (py/pack/pack.py): row i of twists from y = i (t + h) to y = i (t + h) + t,
+    nx twists per row at x = j a (even rows) or a/2 + j a (odd rows); lx = (nx - 1/2) a,
+    ly = ny t + (ny - 1) h; the corner spheres that no twist provides are added."""
+    nodes = {(i % 2 * a / 2 + j * a, i * (t + h) + end) for i in range(ny) for j in range(nx) for end in (0, t)}
+    lx, ly = (nx - 0.5) * a, ny * t + (ny - 1) * h
+    return nodes | {(0, 0), (lx, 0), (0, ly), (lx, ly)}, lx, ly
+
+
+@pytest.mark.parametrize("nx,ny", [(38, 38), (12, 6), (7, 3)])
+def test_placement_corner_matches_yade(tmp_path, nx, ny):
+    a, t, h = 0.08, 0.04, 0.04
+    expected, lx, ly = yade_hexanet_nodes(nx, ny, a, t, h)
+    # 38 x 38 is hexaNet(xLength=3, yLength=3) with its default mos, a, b: the default panel.
+    size = [] if nx == ny == 38 else ["--width", repr(lx), "--height", repr(ly)]
+    gen(tmp_path, "hex", *size, "--placement", "corner", "--out", "c")
+    _, _, atoms, bonds = read_data(tmp_path / "c.data")
+    check_hex_edges(atoms, lx, ly)
+    rel = atoms[:, 2:4] + [lx / 2, ly / 2]
+    assert {(round(x * 1e6), round(y * 1e6)) for x, y in rel} == \
+        {(round(x * 1e6), round(y * 1e6)) for x, y in expected}
+    assert len(atoms) == 2 * nx * ny + 2
+    # The first twist column on x = -W/2: twists of the even rows run along the edge (selvedge).
+    left = np.sort(rel[rel[:, 0] == 0, 1])
+    rows = np.arange(0, ny, 2) * (t + h)
+    assert np.allclose(left[:2 * len(rows)], np.sort(np.concatenate([rows, rows + t])), atol=1e-9)
+    per_bond = Counter(bonds[:, 1])
+    assert per_bond[1] == nx * ny - ny  # every twist off the x edges keeps its DT bond
+    cell = json.loads((tmp_path / "c.json").read_text())["cells"]["hex"]
+    assert cell["placement"] == "corner"
+    assert np.allclose(cell["lattice_origin"], [-lx / 2, -ly / 2 + t / 2], atol=1e-12)
+
+
+@pytest.mark.parametrize("kind", ["hex", "compound"])
+def test_placement_corner_generic_size(tmp_path, kind):
+    """Any size: off the top and right edges every node is a twist end of the lattice started at
+    the lower-left corner; the far edges are clipped as usual."""
+    W, H, a, t, pitch = 2.5, 1.7, 0.08, 0.04, 0.08
+    gen(tmp_path, kind, "--width", str(W), "--height", str(H), "--placement", "corner", "--out", "c")
+    _, _, atoms, bonds = read_data(tmp_path / "c.data")
+    hexes = atoms[atoms[:, 7] == 1]
+    check_hex_edges(hexes, W, H)
+    rel = hexes[:, 2:4] + [W / 2, H / 2]
+    inner = rel[(hexes[:, 2] != W / 2) & (hexes[:, 3] != H / 2)]
+    i = np.round(inner[:, 0] / (a / 2))
+    assert np.allclose(i * a / 2, inner[:, 0], atol=1e-9)
+    bottom = np.round(inner[:, 1] / pitch)
+    top = np.round((inner[:, 1] - t) / pitch)
+    is_bottom = np.isclose(bottom * pitch, inner[:, 1], atol=1e-9)
+    is_top = np.isclose(top * pitch + t, inner[:, 1], atol=1e-9)
+    assert np.all(is_bottom | is_top)
+    row = np.where(is_bottom, bottom, top)
+    assert np.all((i - row) % 2 == 0)
+    assert ((rel[:, 0] == 0) & (np.abs(rel[:, 1] - t) < 1e-9)).sum() == 1
+
+
 def read_stl(path):
     tris = []
     cur = []
@@ -166,9 +267,10 @@ def run_liggghts(tmp_path, deck):
 
 
 @pytest.mark.skipif(not LIGGGHTS.exists(), reason="LIGGGHTS not built")
-@pytest.mark.parametrize("kind", ["hex", "compound", "beam"])
-def test_liggghts_reads_data(tmp_path, kind):
-    gen(tmp_path, kind, "--out", "net")
+@pytest.mark.parametrize("args", [["hex"], ["compound"], ["beam"], ["hex", "--placement", "wire"],
+                                  ["compound", "--placement", "corner"]])
+def test_liggghts_reads_data(tmp_path, args):
+    gen(tmp_path, *args, "--out", "net")
     rc, out = run_liggghts(tmp_path, "units si\natom_style hybrid granular molecular\n"
                            "atom_modify map array sort 0 0\nboundary f f f\nnewton off on\n"
                            "read_data net.data\n")

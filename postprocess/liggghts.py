@@ -118,7 +118,15 @@ def run(deck, workdir, variables=None, np=1, total_steps=None, label="", dt=None
     if proc.returncode or errors:
         msg = errors[0] if errors else (output.strip().splitlines() or ["no output"])[-1]
         raise PostprocessError(f"LIGGGHTS failed in {workdir}: {msg}")
+    # LIGGGHTS ends a run early, writes a restart and exits 0 on SIGTERM from outside: a deck
+    # that prints END_MARKER as its last line must have reached it
+    if END_MARKER in deck.read_text(errors="replace") and END_MARKER not in log:
+        raise PostprocessError(f"LIGGGHTS stopped before the end of {deck.name} in {workdir} "
+                               f"(killed from outside?): the case is not complete")
     return time.time() - start
+
+
+END_MARKER = "wirenet: end of deck"
 
 
 def _follow(proc, workdir, total_steps, label, dt, phase_marker):

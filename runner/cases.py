@@ -11,7 +11,7 @@ import json
 import os
 
 from postprocess import impact, punch
-from postprocess.model import MATERIALS, PAPER_BENDING
+from postprocess.model import PAPER_BENDING
 
 from . import cantilever, supports
 from .schema import BY_PATH, KEYS
@@ -96,15 +96,19 @@ def common_options(case):
                 materials=materials_of(case), rope_strength=case["materials.rope_strength"])
 
 
-class PunchCase:
-    """A quasi-static punch (postprocess/punch.py, inputs/punch.in)."""
-    kind = "punch"
+class CaseRunner:
+    """A case of one kind: its case folders (units) and how each runs."""
 
     def __init__(self, case):
         self.case = case
 
     def units(self):
+        """(folder name, index) of each run of the case: one, except for impact sequences."""
         return [(self.case.name, 0)]
+
+
+class PunchCase(CaseRunner):
+    """A quasi-static punch (postprocess/punch.py, inputs/punch.in)."""
 
     def run(self, index, case_dir, study_dir, np_):
         c = self.case
@@ -131,13 +135,9 @@ class PunchCase:
         return dict(facts, bending_source=source)
 
 
-class ImpactCase:
+class ImpactCase(CaseRunner):
     """One block impact or a sequence of them on the same net (postprocess/impact.py,
     inputs/impact.in)."""
-    kind = "impact"
-
-    def __init__(self, case):
-        self.case = case
 
     def units(self):
         n = len(self.case.impacts)
@@ -166,15 +166,8 @@ class ImpactCase:
             previous=self.units()[index - 1][0] if index else None))
 
 
-class CantileverCase:
+class CantileverCase(CaseRunner):
     """The cantilever check of the beam law (runner/cantilever.py, inputs/cantilever.in)."""
-    kind = "beam"
-
-    def __init__(self, case):
-        self.case = case
-
-    def units(self):
-        return [(self.case.name, 0)]
 
     def run(self, index, case_dir, study_dir, np_):
         return cantilever.run_beam_case(case_dir, self.case["cantilever.elements"], np_=np_)
@@ -196,5 +189,3 @@ def record_kind(case):
         return "calibration"
     return case.kind
 
-
-__all__ = ["runner_of", "record_kind", "bending_of", "MATERIALS"]

@@ -39,3 +39,18 @@ def test_without_marker_every_step_counts(tmp_path, capsys):
     log.write_text(THERMO + "100 10 0.1\n")
     Progress(log, total=400, label="impact", dt=None).report()
     assert capsys.readouterr().err.strip().startswith("impact: step 100/400 (25 %), ETA")
+
+
+def test_a_deck_that_stops_before_its_end_marker_is_not_complete(tmp_path):
+    """LIGGGHTS ends early and exits 0 when killed from outside (a forced restart); a deck that
+    prints the end marker as its last line must have printed it, or the run is an error."""
+    import pytest
+    from postprocess.errors import PostprocessError
+    early = tmp_path / "early.in"
+    early.write_text(f'print "start"\njump SELF skip\nprint "{liggghts.END_MARKER}"\n'
+                     'label skip\n')
+    with pytest.raises(PostprocessError, match="stopped before the end of early.in"):
+        liggghts.run(early, tmp_path / "a")
+    whole = tmp_path / "whole.in"
+    whole.write_text(f'print "start"\nprint "{liggghts.END_MARKER}"\n')
+    liggghts.run(whole, tmp_path / "b")

@@ -23,7 +23,9 @@ def _ranks(text):
     try:
         value = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an integer from 1, got '{text}'") from None
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected an integer > 0, got '{text}'")
     return value
 
 

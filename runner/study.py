@@ -209,7 +209,7 @@ def run_cases(loaded, out, quick, np_):
                     case_fingerprint=fingerprint, title=case["title"])
         # 'running' until the runner returns: an interrupted or failed case is never 'ok'
         _write_meta(case_dir, dict(base, status="running"))
-        print(f"{prefix}: running ({mode}, {os.path.relpath(case.path)})", flush=True)
+        print(f"{prefix}: running ({mode}) from {os.path.relpath(case.path)}", flush=True)
         start = time.time()
         try:
             facts = runner.run(index, case_dir, out, np_)

@@ -264,7 +264,7 @@ def test_bad_impact_arguments(tmp_path):
         impact.Setup(str(tmp_path), "triangle", quick=True)
     with pytest.raises(PostprocessError, match="must be > 0"):
         impact.Setup(str(tmp_path), "square", quick=True, mass=-1)
-    p = subprocess.run([sys.executable, "-m", "postprocess", "study", "impact_sqaure", "--out",
+    p = subprocess.run([sys.executable, "-m", "runner", "run", "impact_sqaure", "--out",
                         str(tmp_path / "x")], cwd=lmp.ROOT, capture_output=True, text=True,
                        env=dict(lmp.MPI_ENV, WIRENET_BUILD=str(lmp.BUILD), PATH="/usr/bin:/bin"))
     assert p.returncode != 0

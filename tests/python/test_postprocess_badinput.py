@@ -372,8 +372,6 @@ CASES = [
      "string '1 %'"),
     ("report-not-a-directory", nothing, ["report", "platter.csv"],
      "platter.csv: not a directory"),
-    ("study-np-zero", nothing, ["study", "beam", "--np", "0", "--out", "never"],
-     "argument --np: expected an integer > 0, got '0'"),
     # calibrate
     ("calibrate-nan-measured", nan_measured,
      ["calibrate", "measured.csv", "--cases", f"{STUDY}/calib_0", f"{STUDY}/calib_1",
@@ -439,7 +437,7 @@ def test_cases_are_many_and_distinct():
     assert len({c[0] for c in CASES}) == len(CASES)
     assert len({(c[1].__name__, tuple(c[2])) for c in CASES}) == len(CASES)
     commands = {c[2][0] for c in CASES}
-    assert commands == {"zone", "vtu", "data2vtu", "plot", "report", "study", "calibrate"}
+    assert commands == {"zone", "vtu", "data2vtu", "plot", "report", "calibrate"}
 
 
 @pytest.mark.parametrize("args", [

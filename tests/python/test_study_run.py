@@ -14,7 +14,7 @@ HEADERS = {"beam.csv": "elements,load,tip_deflection,analytic_deflection,nrmse",
 
 
 def run_study(out, *args):
-    return subprocess.run([sys.executable, "-m", "postprocess", "study", *args, "--out", str(out)],
+    return subprocess.run([sys.executable, "-m", "runner", "run", *args, "--out", str(out)],
                           cwd=lmp.ROOT, capture_output=True, text=True,
                           env=dict(lmp.MPI_ENV, WIRENET_BUILD=str(lmp.BUILD), PATH="/usr/bin:/bin"))
 

@@ -149,7 +149,6 @@ class Setup:
 
     def variables(self):
         inertia = self.block.inertia
-        half = self.meta["panel"]
         centre = self.meta.get("centre", [0.0, 0.0, 0.0])
         v = dict(punch.model_variables(self.materials),
                  data=os.path.abspath(self.data_path), stl=os.path.abspath(self.stl),
@@ -161,7 +160,6 @@ class Setup:
                  vz0=repr(self.velocity[2]), quat=" ".join(map(repr, self.block.quat)),
                  centre_x=repr(centre[0]), centre_y=repr(centre[1]),
                  impact_x=repr(centre[0] + self.point[0]), impact_y=repr(centre[1] + self.point[1]),
-                 half_w=half["width"] / 2, half_h=half["height"] / 2,
                  node_r=repr(self.node_r), layers=self.layers, bending=self.bending,
                  alpha=self.alpha, alpha_relax=ALPHA_RELAX, g=repr(self.g),
                  dt=repr(self.dt), relax_steps=self.relax_steps, steps=self.steps,

@@ -284,12 +284,10 @@ class Setup:
         speed = self.speed / speed_factor
         every = every or max(int(round(0.002 / (speed * self.dt))), 1)   # a row per 2 mm
         ke_every = every // 20 if every % 20 == 0 else 1    # 20 kinetic-energy samples a row
-        half = self.meta["panel"]
         shape, axis = self.body_shape()
         v = dict(model_variables(self.materials),
                  data=os.path.abspath(self.data_path), stl=os.path.abspath(self.stl),
-                 platter_h=self.shape["height"], half_w=half["width"] / 2,
-                 half_h=half["height"] / 2, centre_id=self.centre_id, centre_r=self.centre_r,
+                 platter_h=self.shape["height"], centre_id=self.centre_id, centre_r=self.centre_r,
                  layers=self.layers, bending=self.bending, alpha=self.alpha,
                  mass_scale=repr(self.mass_scale), g=repr(self.gravity),
                  dt=repr(self.dt), dt_preload=repr(self.dt_preload), relax_steps=self.relax_steps,

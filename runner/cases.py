@@ -49,28 +49,26 @@ def materials_of(case):
     return out
 
 
+# case key -> wirenet-gen option for each net (compound prefixes its layers' options)
+_GENERATOR_OPTIONS = (
+    ("panel.placement", {"hex": "--placement", "compound": "--placement"}),
+    ("panel.hex_node_radius", {"hex": "--node-radius", "compound": "--hex-node-radius"}),
+    ("panel.hex_node_mass", {"hex": "--node-mass", "compound": "--hex-node-mass"}),
+    ("panel.square_node_radius", {"square": "--node-radius", "compound": "--square-node-radius"}),
+    ("panel.rope_mass", {"square": "--rope-mass", "compound": "--rope-mass"}),
+)
+
+
 def generator_options(case):
-    """wirenet-gen options beyond the net and size: only those a case changes, so that a case
-    with the defaults generates the generator's default panel."""
-    v, net = case.values, case["panel.net"]
-    hex_opts, square_opts = [], []
-    if v["panel.placement"] != BY_PATH["panel.placement"].default:
-        hex_opts += ["--placement", v["panel.placement"]]
-    if v["panel.hex_node_radius"] > 0:
-        hex_opts += ["--node-radius", v["panel.hex_node_radius"]]
-    if v["panel.hex_node_mass"] != BY_PATH["panel.hex_node_mass"].default:
-        hex_opts += ["--node-mass", v["panel.hex_node_mass"]]
-    if v["panel.square_node_radius"] > 0:
-        square_opts += ["--node-radius", v["panel.square_node_radius"]]
-    if v["panel.rope_mass"] != BY_PATH["panel.rope_mass"].default:
-        square_opts += ["--rope-mass", v["panel.rope_mass"]]
-    if net == "hex":
-        return hex_opts
-    if net == "square":
-        return square_opts
-    prefixed = [("--hex-" + o[2:]) if isinstance(o, str) and o.startswith("--") and
-                o != "--placement" else o for o in hex_opts]
-    return prefixed + [("--square-" + o[2:]) if o == "--node-radius" else o for o in square_opts]
+    """wirenet-gen options beyond the net and size: only those a case changes from the schema's
+    defaults (a node radius of 0 is the generator's own), so that a case with the defaults
+    generates the generator's default panel."""
+    options = []
+    for path, by_net in _GENERATOR_OPTIONS:
+        value, option = case[path], by_net.get(case["panel.net"])
+        if option and value != BY_PATH[path].default and value != 0.0:
+            options += [option, value]
+    return options
 
 
 def write_supports(case, setup_dir):

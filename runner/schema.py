@@ -4,7 +4,7 @@ doc/case_files.md are all made from this table; materials and contact defaults c
 one source, inputs/include/materials.in.
 """
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from postprocess.model import MATERIALS, PAPER_BENDING
 
@@ -12,7 +12,7 @@ from . import supports
 
 KINDS = ("punch", "impact", "cantilever")
 NETS = ("hex", "square", "compound")
-PAPER = "the paper (../mission: Thoeni et al.)"
+PAPER = "the paper (README: the study WireNet reproduces)"
 MATERIALS_SOURCE = "inputs/include/materials.in (doc/bond_wirenet.md)"
 
 
@@ -35,7 +35,6 @@ class Key:
     derived: str = ""           # what a None default means
     quick: object = None        # the --quick value where it differs
     per_item: bool = False      # a key of each [[impact]] / [[output.zones]] entry
-    extra: dict = field(default_factory=dict)
 
     @property
     def section(self):
@@ -46,10 +45,9 @@ class Key:
         return self.path.rsplit(".", 1)[-1]
 
     def default_for(self, kind, quick=False):
-        value = self.default.get(kind) if isinstance(self.default, dict) else self.default
         if quick and self.quick is not None:
-            value = self.quick.get(kind) if isinstance(self.quick, dict) else self.quick
-        return value
+            return self.quick
+        return self.default.get(kind) if isinstance(self.default, dict) else self.default
 
 
 def _material(name, unit, doc, low=0.0, low_open=True, type_="number"):

@@ -67,7 +67,7 @@ def _default_text(key):
         text = key.derived
     else:
         text = toml_value(key.default)
-    if key.quick is not None and not isinstance(key.quick, dict):
+    if key.quick is not None:
         text += f" (--quick: {toml_value(key.quick)})"
     return text.replace("|", "\\|")
 

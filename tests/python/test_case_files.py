@@ -237,3 +237,82 @@ def test_quaternion_is_normalised():
     assert case.impacts[0]["orientation"] == [1.0, 0.0, 0.0, 0.0]
     assert math.isclose(sum(v * v for v in check(
         'kind = "impact"\n[impact]\norientation = [1.0, 1.0, 0.0, 0.0]\n').impacts[0]["orientation"]), 1.0)
+
+
+# --- studies: every mistake named before a case runs ---------------------------------------------
+
+def test_study_file_errors(tmp_path):
+    from runner import study
+    bad = tmp_path / "s.toml"
+    bad.write_text('cases = "punch_hex"\n')
+    with pytest.raises(study.StudyError, match="s.toml: cases: must be a list"):
+        study.resolve_target(str(bad))
+    bad.write_text('cases = ["punch_hxe"]\n')
+    with pytest.raises(study.StudyError, match="unknown case 'punch_hxe'"):
+        study.resolve_target(str(bad))
+    with pytest.raises(study.StudyError, match="unknown study or case 'compund'"):
+        study.resolve_target("compund")
+    with pytest.raises(study.StudyError, match="nowhere.toml: no such file"):
+        study.resolve_target(str(tmp_path / "nowhere.toml"))
+    # two case files of the same name in one study would share a case folder
+    (tmp_path / "a").mkdir()
+    (tmp_path / "a" / "punch_hex.toml").write_text('kind = "punch"\n')
+    bad.write_text('cases = ["punch_hex", "a/punch_hex.toml"]\n')
+    name, files = study.resolve_target(str(bad))
+    with pytest.raises(study.StudyError, match="share the name punch_hex"):
+        study.load_cases(files, True, ())
+    # a bad file anywhere in the study stops it before the first case
+    (tmp_path / "a" / "broken.toml").write_text('kind = "punch"\n[panel]\nwidth = 0.0\n')
+    bad.write_text('cases = ["beam", "a/broken.toml"]\n')
+    with pytest.raises(study.StudyError, match="broken.toml: panel.width: must be > 0"):
+        study.load_cases(study.resolve_target(str(bad))[1], True, ())
+    # a study file is told from a case file by its `cases` key
+    assert study.resolve_target(str(lmp.ROOT / "inputs" / "studies" / "impact.toml"))[1][0] \
+        .endswith("impact_hex.toml")
+
+
+# --- the block of an STL: mass properties of the uniform solid ------------------------------------
+
+def _box_stl(path, a, b, c, shift):
+    """A closed, outward-oriented box a x b x c with its corner at ``shift``."""
+    import itertools
+    v = {k: (k[0] * a + shift[0], k[1] * b + shift[1], k[2] * c + shift[2])
+         for k in itertools.product((0, 1), repeat=3)}
+    quads = [((0, 0, 0), (0, 1, 0), (1, 1, 0), (1, 0, 0)), ((0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)),
+             ((0, 0, 0), (1, 0, 0), (1, 0, 1), (0, 0, 1)), ((0, 1, 0), (0, 1, 1), (1, 1, 1), (1, 1, 0)),
+             ((0, 0, 0), (0, 0, 1), (0, 1, 1), (0, 1, 0)), ((1, 0, 0), (1, 1, 0), (1, 1, 1), (1, 0, 1))]
+    lines = ["solid box"]
+    for q in quads:
+        for tri in ((q[0], q[1], q[2]), (q[0], q[2], q[3])):
+            lines += ["facet normal 0 0 0", "outer loop", *(f"vertex {v[k][0]} {v[k][1]} {v[k][2]}"
+                                                          for k in tri), "endloop", "endfacet"]
+    path.write_text("\n".join(lines + ["endsolid box"]) + "\n")
+
+
+def test_stl_block_mass_properties_and_orientation(tmp_path):
+    """A 0.6 x 0.4 x 0.2 m box of 12 kg anywhere in its file: centred, I = m (b^2 + c^2) / 12
+    etc.; turned 90 degrees about z its x and y moments swap and its lowest point stays c / 2
+    below the centroid."""
+    import numpy as np
+    from postprocess import impact, vtu
+    _box_stl(tmp_path / "box.stl", 0.6, 0.4, 0.2, (5.0, -3.0, 1.0))
+    block = impact.Block(str(tmp_path), 12.0, None, stl=str(tmp_path / "box.stl"))
+    expected = np.diag([12 * (0.4 ** 2 + 0.2 ** 2) / 12, 12 * (0.6 ** 2 + 0.2 ** 2) / 12,
+                        12 * (0.6 ** 2 + 0.4 ** 2) / 12])
+    assert np.allclose(block.inertia, expected, atol=1e-12)
+    assert block.half == pytest.approx(0.1)
+    points, _ = vtu.read_stl(block.path)
+    assert np.allclose(points.mean(axis=0), 0.0, atol=1e-12)    # the written STL is centred
+    s = math.sqrt(0.5)
+    (tmp_path / "t").mkdir()
+    turned = impact.Block(str(tmp_path / "t"), 12.0, None, quat=(s, 0.0, 0.0, s),
+                          stl=str(tmp_path / "box.stl"))
+    assert np.allclose(np.diag(turned.inertia), np.diag(expected)[[1, 0, 2]], atol=1e-12)
+    assert turned.half == pytest.approx(0.1)
+
+
+def test_missing_previous_net_is_named(tmp_path):
+    from postprocess import impact
+    from postprocess.errors import PostprocessError
+    with pytest.raises(PostprocessError, match="no net from the previous impact"):
+        impact.Setup(str(tmp_path), "hex", quick=True, restart=str(tmp_path / "net.restart"))

@@ -45,7 +45,7 @@ G = 9.81
 ZONE_RADIUS = 1.0
 DT_SAFETY = 0.5        # as the punch cases: half the stable step with the true masses
 OUTPUT_INTERVAL = 2e-4   # s between rows of impact.csv / block.csv
-DUMP_INTERVAL = 2e-3     # s between bond dumps (zone forces)
+DUMP_ROWS = 10           # rows between bond dumps (zone forces)
 # The block's default model: "analytic" (fix wirenet/body truncated-cube, free, no facets) or
 # "mesh" (the generator's STL moved by fix wirenet/rigidmesh); doc/impact.md.
 DEFAULT_BODY = "analytic"
@@ -96,7 +96,8 @@ class Setup:
                  procs=None, body_model=DEFAULT_BODY, bond_zeta=0.0, rope_strength=False,
                  width=None, height=None, gen_options=(), supports=None, gravity=G,
                  velocity=None, point=(0.0, 0.0), quat=(1.0, 0.0, 0.0, 0.0), stl=None,
-                 materials=None, restart=None, save_net=False):
+                 materials=None, restart=None, save_net=False, row_time=OUTPUT_INTERVAL,
+                 dump_rows=DUMP_ROWS, frames=FRAMES):
         velocity = (0.0, 0.0, -speed) if velocity is None else tuple(float(v) for v in velocity)
         if not (mass > 0 and side > 0 and np.linalg.norm(velocity) > 0):
             raise PostprocessError(f"impact: mass, side and speed must be > 0 (got {mass}, "
@@ -143,8 +144,9 @@ class Setup:
         self.relax_time = relax if relax is not None else (0.01 if quick else 0.1)
         self.steps = int(math.ceil(self.duration / self.dt))
         self.relax_steps = int(math.ceil(self.relax_time / self.dt))
-        self.every = max(int(round(OUTPUT_INTERVAL / self.dt)), 1)
-        self.dump_every = self.every * max(int(round(DUMP_INTERVAL / OUTPUT_INTERVAL)), 1)
+        self.every = max(int(round(row_time / self.dt)), 1)
+        self.dump_every = self.every * int(dump_rows)
+        self.frames = int(frames)
         self.zone_r = ZONE_RADIUS + 0.2
 
     def variables(self):
@@ -165,7 +167,7 @@ class Setup:
                  dt=repr(self.dt), relax_steps=self.relax_steps, steps=self.steps,
                  every=self.every, dump_every=self.dump_every,
                  zone_r=repr(self.zone_r), out=".",
-                 frame_every=max(int(math.ceil(self.steps / FRAMES)), 1),
+                 frame_every=max(int(math.ceil(self.steps / self.frames)), 1),
                  body_model=self.body_model)
         if self.restart:
             v.update(net_from="restart", restart=os.path.abspath(self.restart))

@@ -82,6 +82,8 @@ BODY_MODELS = ("analytic", "mesh")
 DEFAULT_BODY = {"spheroid": "analytic", "cone": "analytic"}
 STL_RESOLUTION = 48  # segments around the axis of the platter STL (mesh path and frames)
 FRAMES = 20          # ParaView frames over the travel (inputs/include/frames.in)
+ROW_TRAVEL = 0.002   # m of platter travel between rows of punch.csv
+DUMP_ROWS = 5        # rows between bond dumps (zone forces, first rupture's picture)
 
 
 def platter_stl_kind(platter):
@@ -201,7 +203,7 @@ class Setup:
                  supports=None, preload_mode=2, preload=0.01, gravity=9.81, speed=PAPER_SPEED,
                  mass_scaling=True, shape=None, position=(0.0, 0.0), alpha=ALPHA,
                  contact_zeta=CONTACT_ZETA, slow_travel=None, quasi_static=True, materials=None,
-                 bond_zeta=0.0):
+                 bond_zeta=0.0, row_travel=ROW_TRAVEL, dump_rows=DUMP_ROWS, frames=FRAMES):
         self.body_model = check_body_model(body_model or DEFAULT_BODY.get(platter, "analytic"))
         os.makedirs(workdir, exist_ok=True)
         self.panel, self.platter, self.bending, self.quick = panel, platter, bending, quick
@@ -212,6 +214,7 @@ class Setup:
         self.supports, self.materials, self.bond_zeta = supports, dict(materials or {}), bond_zeta
         self.position = tuple(float(v) for v in position)
         self.quasi_static = quasi_static
+        self.row_travel, self.dump_rows, self.frames = float(row_travel), int(dump_rows), int(frames)
         prefix = os.path.join(workdir, "panel")
         options = panel_options(panel, quick, width, height, gen_options)
         self.data_path = liggghts.generate(options[0], prefix, *options[1:])
@@ -282,7 +285,7 @@ class Setup:
 
     def variables(self, speed_factor=1.0, every=None, stop_broken=None, travel=None):
         speed = self.speed / speed_factor
-        every = every or max(int(round(0.002 / (speed * self.dt))), 1)   # a row per 2 mm
+        every = every or max(int(round(self.row_travel / (speed * self.dt))), 1)
         ke_every = every // 20 if every % 20 == 0 else 1    # 20 kinetic-energy samples a row
         shape, axis = self.body_shape()
         v = dict(model_variables(self.materials),
@@ -293,13 +296,13 @@ class Setup:
                  dt=repr(self.dt), dt_preload=repr(self.dt_preload), relax_steps=self.relax_steps,
                  speed=repr(speed), preload_mode=self.preload_mode, preload=repr(self.preload),
                  travel=travel or self.travel, every=every, ke_every=ke_every,
-                 dump_every=every * 5, out=".",
+                 dump_every=every * self.dump_rows, out=".",
                  stop_broken=self.stop_broken if stop_broken is None else stop_broken,
                  gamma_n=repr(self.gamma_n), body_model=self.body_model,
                  platter_shape=shape, platter_axis=axis,
                  platter_x=repr(float(self.platter_xy[0])), platter_y=repr(float(self.platter_xy[1])),
                  frame_every=max(int(math.ceil((travel or self.travel) / (speed * self.dt)
-                                               / FRAMES)), 1))
+                                               / self.frames)), 1))
         if self.supports:
             v["supports"] = os.path.abspath(self.supports)
         if self.bond_zeta:

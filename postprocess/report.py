@@ -79,7 +79,7 @@ def case_summary(case):
                            for row in zip(*(beam[c] for c in study.TABLES["beam"][1]))]
         summary["beam_max_nrmse"] = _peak_abs(beam["nrmse"])
     for key in ("first_rupture", "edge_force_peak", "wall_time", "ended_by",
-                "first_rope_rupture"):
+                "first_rope_rupture", "bending", "bending_source", "panel"):
         summary[key] = case.meta.get(key)
     if case.kind == "impact":
         energy = case.meta.get("energy") or {}
@@ -422,6 +422,18 @@ DISSIPATION_NOTE = (
     "`damping ZETA` on every bond.")
 
 
+def _bending_lines(summaries):
+    """The rope beams' bending fraction of each case with ropes and where it came from (the
+    case file, the study's calibration fit, or the paper's value when no fit exists)."""
+    rows = [f"- {n}: {fmt(s['bending'])} ({s.get('bending_source') or 'not recorded'})"
+            for n, s in summaries.items()
+            if s.get("bending") is not None and s.get("panel") in ("square", "compound")]
+    if not rows:
+        return []
+    return ["", "Bending fraction of the rope beams (materials.bending; doc/case_files.md):",
+            ""] + rows
+
+
 def markdown(directory, summaries, claims, missing, figures, claims_bond=(), dissipation=()):
     lines = ["# WireNet study report", "", f"Study directory: `{os.path.abspath(directory)}`", "",
              "## Cases", "", "Peak forces are the largest |force| of platter.csv / block.csv; "
@@ -438,6 +450,7 @@ def markdown(directory, summaries, claims, missing, figures, claims_bond=(), dis
                for n, s in summaries.items() if s.get("ended_by")]
     if endings:
         lines += ["", "How each punch ended (rope strength: doc/bond_wirenet.md):", ""] + endings
+    lines += _bending_lines(summaries)
     lines += ["", "## Tension in the central zone (zone_forces.csv)", ""]
     zone_rows = list(_zone_rows(summaries))
     lines += _table(["case", "family", "peak total tension [N]", "at",

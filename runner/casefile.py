@@ -233,6 +233,15 @@ class Checker:
             self.fail(label, f"must be <= {high:g}, got {value:g}")
         return float(value)
 
+    def _integer(self, key, value, label):
+        if isinstance(value, bool) or not isinstance(value, int):
+            self.fail(label, f"must be an integer, got {_kind_name(value)} {value!r}")
+        if key.low is not None and value < key.low:
+            self.fail(label, f"must be >= {key.low:g}, got {value}")
+        if key.high is not None and value > key.high:
+            self.fail(label, f"must be <= {key.high:g}, got {value}")
+        return value
+
     def _text(self, key, value, label):
         if not isinstance(value, str):
             self.fail(label, f"must be text, got {_kind_name(value)} {value!r}")

@@ -52,6 +52,7 @@ def materials_of(case):
 # case key -> wirenet-gen option for each net (compound prefixes its layers' options)
 _GENERATOR_OPTIONS = (
     ("panel.placement", {"hex": "--placement", "compound": "--placement"}),
+    ("panel.selvedge", {"hex": "--selvedge", "compound": "--selvedge"}),
     ("panel.hex_node_radius", {"hex": "--node-radius", "compound": "--hex-node-radius"}),
     ("panel.hex_node_mass", {"hex": "--node-mass", "compound": "--hex-node-mass"}),
     ("panel.square_node_radius", {"square": "--node-radius", "compound": "--square-node-radius"}),
@@ -81,6 +82,13 @@ def write_supports(case, setup_dir):
     with open(path, "w", encoding="utf-8") as handle:
         handle.write(supports.render(chosen))
     return path
+
+
+def output_options(case):
+    """Row, dump and frame intervals of the case's [output] keys."""
+    rows = {"punch": ("row_travel", "output.row_travel"), "impact": ("row_time", "output.row_time")}
+    name, path = rows[case.kind]
+    return {name: case[path], "dump_rows": case["output.dump_rows"], "frames": case["output.frames"]}
 
 
 def zones_of(case):
@@ -127,7 +135,8 @@ class PunchCase(CaseRunner):
                        contact_zeta=c["contact.zeta"],
                        preload_mode={"sag": 2, "settle": 1, "none": 0}[c["preload.mode"]],
                        preload=c["preload.sag"],
-                       supports=write_supports(c, os.path.join(case_dir, "setup")))
+                       supports=write_supports(c, os.path.join(case_dir, "setup")),
+                       **output_options(c))
         facts = punch.run_case(case_dir, c["panel.net"], platter, bending, c.quick, np_,
                                zones=zones_of(c), **options)
         return dict(facts, bending_source=source)
@@ -156,7 +165,8 @@ class ImpactCase(CaseRunner):
                        duration=item["duration"], body_model=item["body"],
                        stl=item["stl"] or None, relax=settle,
                        supports=write_supports(c, os.path.join(case_dir, "setup")),
-                       restart=previous, save_net=index + 1 < len(c.impacts))
+                       restart=previous, save_net=index + 1 < len(c.impacts),
+                       **output_options(c))
         facts = impact.run_case(case_dir, c["panel.net"], bending, c.quick, np_,
                                 zones=zones_of(c), **options)
         return dict(facts, bending_source=source, sequence=dict(

@@ -6,6 +6,7 @@ one source, inputs/include/materials.in.
 
 from dataclasses import dataclass
 
+from postprocess import impact, punch
 from postprocess.model import MATERIALS, PAPER_BENDING
 
 from . import supports
@@ -73,6 +74,10 @@ KEYS = [
         "centre (twist), a single-wire bond at the centre (wire), or started at the lower-left "
         "corner as YADE's hexaNet does (corner); doc/wirenet-gen.md",
         "doc/wirenet-gen.md", choices=("twist", "wire", "corner")),
+    Key("panel.selvedge", "choice", "loop", "", "edge wire of the hex mesh: a selvedge bond "
+        "(type 3) between consecutive edge nodes (loop), or none, the lattice's own bonds along "
+        "the edges kept (YADE's hexaNet has no selvedge)", "doc/wirenet-gen.md",
+        choices=("loop", "none")),
     Key("panel.hex_node_radius", "number", 0.0, "m", "radius of a hex node sphere; 0: the "
         "generator's 5.4 mm (a diameter of 4 wire diameters)", "doc/wirenet-gen.md", low=0.0),
     Key("panel.hex_node_mass", "number", 0.0039, "kg", "mass of a hex node", "doc/wirenet-gen.md "
@@ -106,6 +111,14 @@ KEYS = [
     _material("lambda_eps", "", "double-twist rule: strain factor (Bertrand et al. 2008)"),
     _material("lambda_k", "", "double-twist rule: stiffness factor (Bertrand et al. 2008)"),
     _material("wire_nu", "", "Poisson's ratio of the wire (double-twist rule)", low_open=False),
+    _material("slack_u", "", "random initial slack of the wire bonds, lambda_u: a bond's slack "
+              "is lambda_u l0 r, r triangular on [0, 1] (0: none, as the paper)", low_open=False),
+    Key("materials.slack_f", "number", MATERIALS["slack_f"], "", "slack: the first loading "
+        "branch's force fraction lambda_f (1: a straight line to the law's first point)",
+        "Thoeni et al. (2013); doc/bond_wirenet.md", low=0.0, low_open=True, high=1.0),
+    Key("materials.slack_seed", "integer", int(MATERIALS["slack_seed"]), "", "slack: random "
+        "seed (the draw depends on the seed and the two node ids only: the same net on any number "
+        "of ranks); -1: every bond the largest slack", MATERIALS_SOURCE, low=-1),
     _material("rope_d", "m", "strand-rope diameter (beam bonds)"),
     _material("rope_E", "Pa", "Young's modulus of the rope's equivalent cylinder"),
     _material("rope_nu", "", "Poisson's ratio of the rope", low_open=False),
@@ -195,6 +208,17 @@ KEYS = [
     Key("cantilever.elements", "list-int", [5, 11, 21], "", "beam discretisations compared with "
         "the closed form", PAPER + ", Fig. 1", kind="cantilever"),
     # --- outputs -----------------------------------------------------------------------------
+    Key("output.row_travel", "number", punch.ROW_TRAVEL, "m", "platter travel between rows "
+        "of punch.csv (force, reactions, energies)", "WireNet (postprocess/punch.py)", low=0.0,
+        low_open=True, kind="punch"),
+    Key("output.row_time", "number", impact.OUTPUT_INTERVAL, "s", "time between rows of "
+        "impact.csv, block.csv, energy.csv and momentum.csv", "WireNet (postprocess/impact.py)",
+        low=0.0, low_open=True, kind="impact"),
+    Key("output.dump_rows", "integer", {"punch": punch.DUMP_ROWS, "impact": impact.DUMP_ROWS},
+        "", "rows between dumps of the bond tensions (zone forces, Figure 4's frame)",
+        "WireNet (postprocess/punch.py, impact.py)", low=1),
+    Key("output.frames", "integer", {"punch": punch.FRAMES, "impact": impact.FRAMES}, "",
+        "ParaView frames over the load (CASE.pvd)", "WireNet (inputs/include/frames.in)", low=1),
     Key("output.zones.name", "text", "centre", "", "zone name (the first zone writes "
         "zone_forces.csv, the others zone_forces_NAME.csv)", "", per_item=True),
     Key("output.zones.centre", "vector2", [0.0, 0.0], "m", "zone centre, offset from the panel "

@@ -11,6 +11,7 @@ SECTION_TITLES = {
     "contact": "[contact] net-body and node-node contacts", "damping": "[damping]",
     "punch": "[punch] the platter", "impact": "[impact] the block ([[impact]] tables: "
     "successive impacts on the same net)", "cantilever": "[cantilever]",
+    "output": "[output] intervals of the outputs",
     "output.zones": "[[output.zones]] circles whose bond tensions are summed per family"}
 
 

@@ -46,6 +46,8 @@ void addHexOptions(Options& o, const std::string& pre) {
     o.addNumber("snap", 0.3, "-", "boundary merge tolerance as a fraction of the shortest lattice bond");
     o.addString("placement", "twist", "hex lattice: twist (a twist on the centre), wire (a single-wire "
                 "midpoint there) or corner (a twist on the lower-left corner, as YADE's hexaNet)");
+    o.addString("selvedge", "loop", "hex edge wire: loop (a selvedge bond between consecutive edge "
+                "nodes) or none (no edge wire, as YADE's hexaNet)");
 }
 
 // The node sphere's diameter: --node-radius doubled when given (never together with
@@ -196,6 +198,10 @@ HexParams hexParams(const Options& o, const std::string& pre) {
         throw UsageError("--snap must be < 0.5 (got " + o.str("snap") + ")");
     if (!parsePlacement(o.str("placement"), p.placement))
         throw UsageError("--placement must be twist, wire or corner (got " + o.str("placement") + ")");
+    const std::string& selvedge = o.str("selvedge");
+    if (selvedge != "loop" && selvedge != "none")
+        throw UsageError("--selvedge must be loop or none (got " + selvedge + ")");
+    p.selvedge = selvedge == "loop";
     return p;
 }
 

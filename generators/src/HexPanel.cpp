@@ -56,7 +56,8 @@ Eigen::Vector2d reducedOrigin(const HexParams& p) {
 // Builds the clipped graph: lattice nodes (snapped), boundary crossings (merged), bonds.
 class ClippedGraph {
 public:
-    ClippedGraph(double X, double Y, double eps) : X_(X), Y_(Y), eps_(eps) {}
+    ClippedGraph(double X, double Y, double eps, bool selvedge)
+        : X_(X), Y_(Y), eps_(eps), selvedge_(selvedge) {}
 
     // Lattice node; coordinates within eps of an edge line are moved onto it so that
     // no sliver bond appears between a node and the edge.
@@ -84,7 +85,7 @@ public:
         const int a = alive_[i] && t0 == 0 ? i : boundaryNode(onEdge(p + t0 * (q - p)));
         const int b = alive_[j] && t1 == 1 ? j : boundaryNode(onEdge(p + t1 * (q - p)));
         if (a == b) return;
-        if (sameEdge(pos_[a], pos_[b])) return;  // runs along the edge: the selvedge covers it
+        if (selvedge_ && sameEdge(pos_[a], pos_[b])) return;  // along the edge: the selvedge covers it
         if ((a != i || b != j) && (pos_[a] - pos_[b]).norm() < eps_) return;  // sliver
         if (!pairs_.insert({std::min(a, b), std::max(a, b)}).second) return;
         bonds_.push_back({type, a, b});
@@ -101,11 +102,14 @@ public:
         }
     }
 
+    // Nodes on no bond (a corner without the selvedge loop) are left out.
     NetModel toModel(const HexParams& hp) const {
         NetModel m;
+        std::vector<char> bonded(pos_.size(), 0);
+        for (const Bond& b : bonds_) bonded[b.a] = bonded[b.b] = 1;
         std::vector<int> newId(pos_.size(), -1);
         for (size_t i = 0; i < pos_.size(); ++i) {
-            if (!alive_[i]) continue;
+            if (!alive_[i] || !bonded[i]) continue;
             newId[i] = int(m.nodes.size());
             const bool ex = std::abs(pos_[i].x()) == X_, ey = std::abs(pos_[i].y()) == Y_;
             const int type = ex && ey ? atype::HexCorner
@@ -179,6 +183,7 @@ private:
     }
 
     double X_, Y_, eps_;
+    bool selvedge_;
     std::vector<Eigen::Vector2d> pos_;
     std::vector<char> alive_;
     std::vector<int> boundary_;
@@ -199,7 +204,7 @@ double HexPanel::estimateNodes(const HexParams& p) {
 NetModel HexPanel::build() const {
     const double X = 0.5 * p_.width, Y = 0.5 * p_.height;
     const double half = 0.5 * p_.axisDistance, pitch = p_.rowPitch(), t = p_.twistLength;
-    ClippedGraph g(X, Y, p_.snapTolerance());
+    ClippedGraph g(X, Y, p_.snapTolerance(), p_.selvedge);
     const Eigen::Vector2d o = reducedOrigin(p_);
 
     // Row k: twists centred at y = k * pitch + o.y; twist columns at x = q * half + o.x with
@@ -216,7 +221,7 @@ NetModel HexPanel::build() const {
             bottom[slot(k, q)] = g.addLatticeNode({x, yc - 0.5 * t});
             top[slot(k, q)] = g.addLatticeNode({x, yc + 0.5 * t});
         }
-    g.addCorners();
+    if (p_.selvedge) g.addCorners();
     for (int k = -K; k <= K; ++k)
         for (int q = -Q; q <= Q; ++q) {
             const int up = top[slot(k, q)];
@@ -227,7 +232,7 @@ NetModel HexPanel::build() const {
             for (int dq : {-1, 1})
                 if (std::abs(q + dq) <= Q) g.addSegment(up, bottom[slot(k + 1, q + dq)], btype::SW);
         }
-    g.addSelvedge(btype::Selvedge);
+    if (p_.selvedge) g.addSelvedge(btype::Selvedge);
 
     NetModel m = g.toModel(p_);
     const double mass = nodeMass(m);
@@ -268,6 +273,7 @@ Json HexPanel::cellJson() const {
     Json origin = Json::array();
     origin.push(p_.latticeOrigin().x()).push(p_.latticeOrigin().y());
     c.set("placement", placementName(p_.placement)).set("lattice_origin", origin);
+    c.set("selvedge", p_.selvedge ? "loop" : "none");
     return c;
 }
 

@@ -29,6 +29,9 @@ struct HexParams {
     double z = 0;                      // plane of the layer
     int molecule = 1;
     Placement placement = Placement::Twist;
+    // Selvedge loop (type 3) around the edges, as a woven panel has; false: no edge wire, the
+    // lattice's own bonds along the edges are kept (YADE's hexaNet has no selvedge).
+    bool selvedge = true;
 
     double swLength() const;
     double rowPitch() const { return twistLength + rise; }

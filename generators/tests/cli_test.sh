@@ -44,6 +44,8 @@ bad "give --hex-node-diameter or --hex-node-radius, not both" compound --hex-nod
 bad "--placement must be twist, wire or corner (got middle)" hex --placement middle --out p
 bad "--placement must be twist, wire or corner (got Corner)" compound --placement Corner --out p
 bad "--placement must not be empty (got '')" hex --placement= --out p
+bad "--selvedge must be loop or none (got yes)" hex --selvedge yes --out p
+bad "--selvedge must be loop or none (got None)" compound --selvedge None --out p
 bad "--out is required"                      hex --width 2
 bad "--width needs a value"                  hex --width
 bad "--zlo must be below the nodes (got 0.5)" hex --zlo 0.5 --out p
@@ -142,6 +144,14 @@ for sub in hex compound; do
         grep -q "\"placement\": \"$placement\"" "${sub}_$placement.json" || fail "${sub}_$placement.json lacks the placement"
     done
 done
+# --selvedge loop is the default, byte for byte; none drops the selvedge bonds (type 3).
+"$GEN" hex --selvedge loop --out hex_loop >/dev/null || fail "hex --selvedge loop failed"
+cmp -s <(tail -n +2 hex.data) <(tail -n +2 hex_loop.data) || fail "hex --selvedge loop differs from the default"
+grep -q '"selvedge": "loop"' hex.json || fail "hex.json lacks \"selvedge\": \"loop\""
+"$GEN" hex --selvedge none --out hex_bare >/dev/null || fail "hex --selvedge none failed"
+grep -q '"selvedge": "none"' hex_bare.json || fail "hex_bare.json lacks \"selvedge\": \"none\""
+awk '/^Bonds/{b=1; next} b && NF == 4 && $2 == 3 {n++} END {exit n > 0}' hex_bare.data ||
+    fail "hex --selvedge none still has selvedge bonds"
 # Corner: the first atom is the lower-left corner (-W/2, -H/2), then the top of the edge twist.
 awk '/^Atoms/{a=1; next} a && NF >= 7 {print $2, $3, $4; n++} n == 2 {exit}' hex_corner.data |
     tr '\n' ' ' | grep -qx "4 -1.5 -1.5 2 -1.5 -1.46 " || fail "hex --placement corner does not start at the corner"

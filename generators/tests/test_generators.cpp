@@ -373,6 +373,17 @@ static void testHexPlacement() {
             // Twists on the x edges run along them: the selvedge replaces their DT bond.
             const long edgeTwists = sym ? 2 * ((ny + 1) / 2) : ny;
             CHECK_EQ(countBonds(m, btype::DT), twists - edgeTwists);
+            // Without the selvedge: hexaNet's twist ends only (its extra corner spheres would be
+            // on no bond), every twist a DT bond, the edge twists included; no edge wire.
+            p.selvedge = false;
+            const NetModel bare = HexPanel(p).build();
+            CHECK_EQ(long(bare.nodes.size()), 2 * twists);
+            CHECK_EQ(countBonds(bare, btype::DT), twists);
+            CHECK_EQ(countBonds(bare, btype::Selvedge), 0L);
+            CHECK_EQ(countBonds(bare, btype::SW), countBonds(m, btype::SW));
+            for (const auto& n : bare.nodes)
+                CHECK(onYadeLattice(p, n.x.x(), n.x.y()), "no selvedge: node (%g, %g) off hexaNet's lattice",
+                      n.x.x(), n.x.y());
         }
     // Compound: the hex layer follows the placement; ties still find a hex node nearby.
     CompoundParams cp;

@@ -58,6 +58,15 @@ def error_of(text):
     ('kind = "punch"\n[punch]\ntip_radius = 0.01\n', "punch.tip_radius: only for punch.platter = 'cone'"),
     ('kind = "punch"\npanel = 3\n', "panel: unknown key"),
     ('kind = "punch"\n[panel\n', "not valid TOML"),
+    ('kind = "punch"\n[materials]\nslack_seed = 1.5\n', "materials.slack_seed: must be an integer, got"),
+    ('kind = "punch"\n[materials]\nslack_seed = -2\n', "materials.slack_seed: must be >= -1, got -2"),
+    ('kind = "punch"\n[materials]\nslack_f = 0.0\n', "materials.slack_f: must be > 0, got 0"),
+    ('kind = "punch"\n[materials]\nslack_u = nan\n', "materials.slack_u: must be a finite number"),
+    ('kind = "punch"\n[panel]\nselvedge = "yes"\n', "panel.selvedge: must be one of loop, none"),
+    ('kind = "punch"\n[output]\ndump_rows = 0\n', "output.dump_rows: must be >= 1, got 0"),
+    ('kind = "punch"\n[output]\nrow_time = 1e-3\n', "output.row_time: only for kind 'impact'"),
+    ('kind = "impact"\n[output]\nrow_travel = 1e-3\n', "output.row_travel: only for kind 'punch'"),
+    ('kind = "punch"\n[output]\nframes = true\n', "output.frames: must be an integer, got"),
 ])
 def test_bad_case_file_is_one_line_naming_the_key(text, expected):
     message = error_of(text)

@@ -1,6 +1,8 @@
 """The decks share their common parts through inputs/include/ instead of copies: no run of six or
 more identical command lines (comments and blank lines aside) stands in two deck files."""
 
+import numpy as np
+
 import lmp
 
 DECKS = sorted((lmp.ROOT / "inputs").rglob("*.in"))
@@ -52,3 +54,52 @@ def test_the_check_finds_a_copied_block(tmp_path):
     copy.write_text("# a copy\nvariable x index 1\n" + "\n".join(
         t for _, t in commands(net)[:7]) + "\n")
     assert shared_runs(copy, net)
+
+
+def _stretched_tensions(tmp_path, name, extra_vars):
+    """Bond tensions of a wirenet-gen panel read through the decks' own includes (materials.in,
+    net.in) after a uniform stretch of 0.05 % in x and y (every bond on its law's first branch)."""
+    import subprocess
+    work = tmp_path / name
+    work.mkdir()
+    subprocess.run([str(lmp.GEN), "hex", "--width", "0.6", "--height", "0.6", "--margin-x", "0.1",
+                    "--out", str(work / "net")], check=True, stdout=subprocess.DEVNULL)
+    sets = "".join(f"variable {k} index {v}\n" for k, v in extra_vars.items())
+    deck = f"""{sets}variable inc string {lmp.ROOT / 'inputs' / 'include'}
+variable data string {work / 'net.data'}
+include ${{inc}}/materials.in
+include ${{inc}}/net.in
+run 0
+displace_atoms all ramp x -0.00015 0.00015 x -0.3 0.3 units box
+displace_atoms all ramp y -0.00015 0.00015 y -0.3 0.3 units box
+compute bl all wirenet/local
+dump d all local 1 bonds.dump c_bl[1] c_bl[2] c_bl[3] c_bl[5] c_bl[6]
+dump_modify d format "%.0f %.0f %.0f %.17g %.17g"
+run 0
+"""
+    lmp.run_deck(deck, work)
+    rows = [line.split() for line in (work / "bonds.dump").read_text().splitlines()
+            if len(line.split()) == 5 and not line.startswith("ITEM")]
+    return {(int(a), int(b)): (int(t), float(e), float(f)) for a, b, t, e, f in rows}
+
+
+def test_case_slack_keys_reach_every_wire_bond(tmp_path):
+    """materials.slack_u/slack_f/slack_seed (case keys -> materials.in -> net.in) give every wire
+    bond the slack of doc/bond_wirenet.md: with seed -1 (dl = lambda_u l0) and lambda_f = 1 the
+    first loading branch is k* = F_1 / (dl + e_1 l0'), l0' = l0 + dl, so a bond stretched within
+    it carries k*/k_u = e_1 / (lambda_u + (1 + lambda_u) e_1) of its slack-free tension (the
+    double twist keeps the single wire's first point: `derived` scales the strains from the
+    second on); the default slack_u 0 is exactly no slack."""
+    from postprocess.model import SW_CURVE
+    plain = _stretched_tensions(tmp_path, "plain", {})
+    slack = _stretched_tensions(tmp_path, "slack", {"slack_u": 0.2, "slack_seed": -1})
+    first = {t: SW_CURVE[0][0] for t in (1, 2, 3)}
+    ratios = {t: [] for t in first}
+    for pair, (btype, strain, force) in plain.items():
+        assert strain < first[btype]                  # the first, linear branch of both laws
+        if force > 1.0:
+            ratios[btype].append(slack[pair][2] / force)
+    for btype, values in ratios.items():
+        e1 = first[btype]
+        assert len(values) > 10, f"bond type {btype}: {len(values)} stretched bonds"
+        assert np.allclose(values, e1 / (0.2 + 1.2 * e1), rtol=1e-9), (btype, min(values), max(values))

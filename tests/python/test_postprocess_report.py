@@ -297,3 +297,23 @@ def test_report_shows_figure4_for_each_case_with_a_series(tmp_path):
     assert "`impact_hex/impact_hex.pvd` (net)" in text
     # cases without a series (impact_square, impact_compound, ...) get no Figure 4
     assert "fig4_impact_square" not in summary["figures"]
+
+
+def test_report_says_where_the_bending_fraction_came_from(tmp_path):
+    """Each case with ropes shows its bending fraction and its source (the calibration fit or
+    the paper's value); a hexagonal panel has no ropes and no line."""
+    root = make_study(tmp_path)
+    (root / "punch_compound" / "case.json").write_text(json.dumps(
+        {"status": "ok", "panel": "compound", "bending": 0.0123,
+         "bending_source": "calibrated (out/calibration.json)"}))
+    (root / "impact_compound" / "case.json").write_text(json.dumps(
+        {"status": "ok", "panel": "compound", "bending": 0.05,
+         "bending_source": "the paper's calibrated value (no calibration.json in the study folder)"}))
+    (root / "punch_hex" / "case.json").write_text(json.dumps(
+        {"status": "ok", "panel": "hex", "bending": 0.05, "bending_source": "case file"}))
+    report(root)
+    text = (root / "report.md").read_text()
+    assert "- punch_compound: 0.0123 (calibrated (out/calibration.json))" in text
+    assert "- impact_compound: 0.05 (the paper's calibrated value (no calibration.json" in text
+    block = text.split("Bending fraction of the rope beams")[1].split("\n## ")[0]
+    assert "- punch_compound" in block and "- punch_hex" not in block

@@ -105,7 +105,7 @@ QUASI_STATIC_KEYS = ("slow_factor", "curve_difference", "compared_up_to",
 
 
 def quasi_static_summary(evidence):
-    """The punch's quasi-static evidence of case.json (postprocess.punch), None where absent."""
+    """The punch's quasi-static evidence of case.json (runner.punch), None where absent."""
     summary = {key: evidence.get(key) for key in QUASI_STATIC_KEYS}
     summary["snap_events"] = len(evidence.get("snap_events") or [])
     return summary

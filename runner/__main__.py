@@ -37,7 +37,10 @@ def build_parser():
                      help="a study of inputs/studies/ (default compound: the paper), a case of "
                           "inputs/cases/, or a case or study file")
     run.add_argument("--quick", action="store_true", help="coarse, short versions of the cases")
-    run.add_argument("--np", type=_ranks, default=1, metavar="N", help="MPI ranks for LIGGGHTS")
+    run.add_argument("--np", type=_ranks, default=None, metavar="N",
+                     help="MPI ranks a case uses (default: WIRENET_NP, else the machine's cores "
+                          "as nproc counts them); a punch's run and its 4x slower twin run side "
+                          "by side on N/2 ranks each")
     run.add_argument("--out", metavar="DIR", help="output folder (default: out/NAME)")
     run.add_argument("--set", action="append", metavar="KEY=VALUE",
                      help="override a case-file key (TOML value; repeatable), e.g. "

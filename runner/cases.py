@@ -1,6 +1,6 @@
 """From a checked case file (runner/casefile.Case) to its runs: one class per kind of case turns
-the keys into the generator's options and the deck's set-up (postprocess.punch.Setup,
-postprocess.impact.Setup, the cantilever), runs them and returns the facts for case.json.
+the keys into the generator's options and the deck's set-up (runner/punch.py Setup,
+runner/impact.py Setup, runner/cantilever.py), runs them and returns the facts for case.json.
 
 A case with several [[impact]] entries is a sequence: its units are CASE (the first impact),
 CASE_impact2, ... each a case folder of its own, each starting from the net the previous one
@@ -10,10 +10,9 @@ left (its run/net.restart).
 import json
 import os
 
-from postprocess import impact, punch
 from postprocess.model import PAPER_BENDING
 
-from . import cantilever, supports
+from . import cantilever, impact, punch, supports
 from .schema import BY_PATH, KEYS
 
 CALIBRATION_FILE = "calibration.json"   # python3 -m postprocess calibrate ... --out DIR/calibration
@@ -114,7 +113,7 @@ class CaseRunner:
 
 
 class PunchCase(CaseRunner):
-    """A quasi-static punch (postprocess/punch.py, inputs/punch.in)."""
+    """A quasi-static punch (runner/punch.py, inputs/punch.in)."""
 
     def run(self, index, case_dir, study_dir, np_):
         c = self.case
@@ -143,7 +142,7 @@ class PunchCase(CaseRunner):
 
 
 class ImpactCase(CaseRunner):
-    """One block impact or a sequence of them on the same net (postprocess/impact.py,
+    """One block impact or a sequence of them on the same net (runner/impact.py,
     inputs/impact.in)."""
 
     def units(self):

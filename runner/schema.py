@@ -6,10 +6,9 @@ one source, inputs/include/materials.in.
 
 from dataclasses import dataclass
 
-from postprocess import impact, punch
 from postprocess.model import MATERIALS, PAPER_BENDING
 
-from . import supports
+from . import impact, punch, supports
 
 KINDS = ("punch", "impact", "cantilever")
 NETS = ("hex", "square", "compound")
@@ -209,14 +208,14 @@ KEYS = [
         "the closed form", PAPER + ", Fig. 1", kind="cantilever"),
     # --- outputs -----------------------------------------------------------------------------
     Key("output.row_travel", "number", punch.ROW_TRAVEL, "m", "platter travel between rows "
-        "of punch.csv (force, reactions, energies)", "WireNet (postprocess/punch.py)", low=0.0,
+        "of punch.csv (force, reactions, energies)", "WireNet (runner/punch.py)", low=0.0,
         low_open=True, kind="punch"),
     Key("output.row_time", "number", impact.OUTPUT_INTERVAL, "s", "time between rows of "
-        "impact.csv, block.csv, energy.csv and momentum.csv", "WireNet (postprocess/impact.py)",
+        "impact.csv, block.csv, energy.csv and momentum.csv", "WireNet (runner/impact.py)",
         low=0.0, low_open=True, kind="impact"),
     Key("output.dump_rows", "integer", {"punch": punch.DUMP_ROWS, "impact": impact.DUMP_ROWS},
         "", "rows between dumps of the bond tensions (zone forces, Figure 4's frame)",
-        "WireNet (postprocess/punch.py, impact.py)", low=1),
+        "WireNet (runner/punch.py, impact.py)", low=1),
     Key("output.frames", "integer", {"punch": punch.FRAMES, "impact": impact.FRAMES}, "",
         "ParaView frames over the load (CASE.pvd)", "WireNet (inputs/include/frames.in)", low=1),
     Key("output.zones.name", "text", "centre", "", "zone name (the first zone writes "

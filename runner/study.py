@@ -191,6 +191,21 @@ def _check_np(np_):
         raise StudyError(f"--np must be an integer from 1 to {MAX_RANKS} (got {np_})")
 
 
+def default_ranks():
+    """The default of --np: WIRENET_NP when set, else the cores this process may run on (what
+    `nproc` prints)."""
+    text = os.environ.get("WIRENET_NP", "").strip()
+    if not text:
+        return max(len(os.sched_getaffinity(0)), 1)
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if not 1 <= value <= MAX_RANKS:
+        raise StudyError(f"WIRENET_NP must be an integer from 1 to {MAX_RANKS} (got '{text}')")
+    return value
+
+
 def run_cases(loaded, out, quick, np_):
     """Run the cases not yet complete in this mode; the folder lock is held by the caller."""
     units = [(case, runner, name, index) for case in loaded
@@ -230,14 +245,15 @@ def run(args):
     folder, where a relative path would point elsewhere."""
     previous = {s: signal.signal(s, _raise_interrupt) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
-        _check_np(args.np)
+        np_ = default_ranks() if args.np is None else args.np
+        _check_np(np_)
         name, files = resolve_target(args.target or DEFAULT_STUDY)
         loaded = load_cases(files, args.quick, args.set or ())
         out = os.path.abspath(args.out or os.path.join("out", name))
         os.makedirs(out, exist_ok=True)
         start = time.time()
         with FolderLock(out):
-            names = run_cases(loaded, out, args.quick, args.np)
+            names = run_cases(loaded, out, args.quick, np_)
             summary = report.build(out, expected=names)
         for claim in summary["claims"]:
             print(f"claim {claim['id']}: {claim['verdict']}")

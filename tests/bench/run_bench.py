@@ -22,6 +22,7 @@ import json
 import os
 import platform
 import re
+import shutil
 import subprocess
 import sys
 import time
@@ -228,6 +229,116 @@ def bench_postprocess():
             "exit": p.returncode}
 
 
+YADE_CASE = ROOT / "docs" / "examples" / "yade_punch.toml"
+YADE_SCRIPT = ROOT / "tests" / "bench" / "yade_punch.py"
+ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+
+
+def loop_times(log):
+    """(seconds, steps) summed over the runs of a LIGGGHTS log ("Loop time of ..." lines)."""
+    loops = re.findall(r"Loop time of ([0-9.eE+-]+) on \d+ procs for (\d+) steps", log)
+    return sum(float(t) for t, _ in loops), sum(int(n) for _, n in loops)
+
+
+def bench_yade_punch(out, travel):
+    """YADE WirePM's punch test in both codes on one core: WireNet runs the case file
+    docs/examples/yade_punch.toml (its net is hexaNet's lattice) for `travel` metres of the sphere;
+    YADE (tests/bench/yade_punch.py) the same number of steps of the same time step. Per step:
+    LIGGGHTS' loop time (everything in the step: bonds, contacts, body, damping, integration,
+    outputs) against YADE's wall time of O.run (after a warm-up)."""
+    folder = out / "yade_punch"
+    cmd = [sys.executable, "-P", "-m", "runner", "run", str(YADE_CASE), "--np", "1", "--out",
+           str(folder), "--set", f"punch.travel={travel!r}"]
+    p = subprocess.run(cmd, cwd=ROOT, env=dict(ENV, PYTHONPATH=str(ROOT)), stdout=subprocess.PIPE,
+                       stderr=subprocess.STDOUT, text=True)
+    if p.returncode != 0:
+        raise RuntimeError("WireNet yade_punch failed:\n" + p.stdout[-3000:])
+    case = folder / "yade_punch"
+    meta = json.loads((case / "case.json").read_text())
+    seconds, steps = loop_times((case / "run" / "log.lammps").read_text())
+    panel = json.loads((case / "setup" / "panel.json").read_text())["counts"]
+    res = {"wirenet": {"nodes": panel["atoms"], "bonds": panel["bonds"], "steps": steps,
+                       "loop_seconds": seconds, "ms_per_step": 1e3 * seconds / steps,
+                       "dt": meta["dt"], "peak_force": meta["peak_force"]}}
+    yade = shutil.which("yade")
+    if yade is None:
+        res["yade"] = None
+        res["note"] = "yade is not installed (Debian package yade): no YADE row"
+        return res
+    result = out / "yade_punch.json"
+    p = subprocess.run([yade, "-n", "-x", "-j1", str(YADE_SCRIPT), str(steps), repr(meta["dt"]),
+                        str(result)], cwd=out, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                       text=True)
+    if p.returncode != 0 or not result.exists():
+        raise RuntimeError("YADE yade_punch.py failed:\n" + p.stdout[-3000:])
+    res["yade"] = json.loads(result.read_text())
+    res["ratio"] = res["yade"]["ms_per_step"] / res["wirenet"]["ms_per_step"]
+    return res
+
+
+def _timed_after(log, marker):
+    """(seconds, steps) of the runs after the line `marker` of a LIGGGHTS log."""
+    return loop_times(log.split(marker, 1)[1])
+
+
+def bench_ranks(out, steps, ranks=(1, 2)):
+    """The 3 m compound panel's punch and impact on 1 and 2 MPI ranks: LIGGGHTS' loop time of
+    `steps` steps of the load phase (after a short pre-load or settling, which is not timed).
+    The set-ups are the study's (runner/punch.py, runner/impact.py); the bond dumps are off."""
+    sys.path.insert(0, str(ROOT))
+    from postprocess import liggghts as lig
+    from runner import impact, punch
+    res = {}
+    for np_ in ranks:
+        folder = out / f"ranks_punch_np{np_}"
+        setup = punch.Setup(str(folder / "setup"), "compound", "spheroid")
+        travel = steps * setup.speed * setup.dt
+        variables, _ = setup.variables(travel=travel, every=1000)
+        variables.update(dump_every=10 ** 9, frame_every=10 ** 9, relax_steps=2000, preload_tol=1)
+        lig.run(lig.INPUTS / "punch.in", str(folder / "run"), variables, np=np_,
+                total_steps=steps, dt=setup.dt, phase_marker="pre-load: centre sag")
+        seconds, n = _timed_after((folder / "run" / "log.lammps").read_text(), "pre-load: centre sag")
+        res.setdefault("punch", {})[np_] = {"steps": n, "seconds": seconds}
+        folder = out / f"ranks_impact_np{np_}"
+        setup = impact.Setup(str(folder / "setup"), "compound", relax=0.002)
+        setup.duration, setup.steps = steps * setup.dt, steps     # the first `steps` of the impact
+        variables = setup.variables()
+        variables.update(dump_every=10 ** 9, frame_every=10 ** 9)
+        lig.run(lig.INPUTS / "impact.in", str(folder / "run"), variables, np=np_,
+                total_steps=steps, dt=setup.dt, phase_marker="impact: block released")
+        seconds, n = _timed_after((folder / "run" / "log.lammps").read_text(), "impact: block released")
+        res.setdefault("impact", {})[np_] = {"steps": n, "seconds": seconds}
+    for case in res.values():
+        one, two = case[ranks[0]], case[ranks[-1]]
+        case["speedup"] = (one["seconds"] / one["steps"]) / (two["seconds"] / two["steps"])
+    return res
+
+
+def ranks_table(r):
+    lines = ["| 3 m compound panel | steps | 1 rank (s) | 2 ranks (s) | speed-up |", "|---|---|---|---|---|"]
+    for case in ("punch", "impact"):
+        c = r[case]
+        lines.append(f"| {case} (load phase) | {c[1]['steps']} | {c[1]['seconds']:.2f} | "
+                     f"{c[2]['seconds']:.2f} | **{c['speedup']:.2f}** (target >= 1.8) |")
+    return "\n".join(lines)
+
+
+def yade_table(y):
+    w = y["wirenet"]
+    lines = ["| YADE WirePM punch test, 1 core | nodes | links/bonds | steps of dt | ms per step |",
+             "|---|---|---|---|---|",
+             f"| WireNet (`docs/examples/yade_punch.toml`, analytic sphere) | {w['nodes']} | "
+             f"{w['bonds']} | {w['steps']} of {w['dt']:.3g} s | {w['ms_per_step']:.3f} |"]
+    if y.get("yade"):
+        v = y["yade"]
+        lines.append(f"| YADE {v['yade']} (`tests/bench/yade_punch.py`, `yade -j1`) | {v['nodes']} | "
+                     f"{v['links']} | {v['steps']} of {v['dt']:.3g} s | {v['ms_per_step']:.3f} |")
+        lines += ["", f"YADE / WireNet time per step: **{y['ratio']:.1f}** (target >= 10)"]
+    else:
+        lines += ["", y["note"]]
+    return "\n".join(lines)
+
+
 def table(res):
     b = res["bonds"]
     lines = ["| case | bonds | steps | Bond time (s) | loop time (s) | ns per bond-step |",
@@ -299,6 +410,11 @@ def main(argv=None):
     ap.add_argument("--steps", type=int, default=5000)
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--out", type=Path, default=BUILD / "bench")
+    ap.add_argument("--yade-travel", type=float, default=0.04,
+                    help="sphere travel of the YADE punch comparison [m] (0.04: about 20 000 steps)")
+    ap.add_argument("--rank-steps", type=int, default=4000,
+                    help="steps of the 1-vs-2-rank comparison on the compound panel")
+    ap.add_argument("--only", choices=("yade", "ranks"), help="run one benchmark only (no doc rewrite)")
     ap.add_argument("--no-doc", action="store_true", help="do not rewrite docs/PERFORMANCE.md")
     opts = ap.parse_args(argv)
     for exe in (LIGGGHTS, GEN):
@@ -307,6 +423,16 @@ def main(argv=None):
     opts.out.mkdir(parents=True, exist_ok=True)
     res = {"machine": machine_facts(), "repeats": opts.repeats,
            "command": "./wirenet bench" + "".join(f" {a}" for a in (argv or sys.argv[1:]))}
+    if opts.only == "ranks":
+        r = bench_ranks(opts.out, opts.rank_steps)
+        print(ranks_table(r))
+        (opts.out / "ranks_results.json").write_text(json.dumps(r, indent=2) + "\n")
+        return 0
+    if opts.only == "yade":
+        y = bench_yade_punch(opts.out, opts.yade_travel)
+        print(yade_table(y))
+        (opts.out / "yade_punch_results.json").write_text(json.dumps(y, indent=2) + "\n")
+        return 0
     print(f"[bench] bond loop: 3 m x 3 m hex net, {opts.steps} steps, best of {opts.repeats}", flush=True)
     res["bonds"] = bench_bonds(opts.out, opts.steps, opts.repeats)
     res["tension_share"] = tension_share(opts.out)
@@ -316,7 +442,12 @@ def main(argv=None):
     res["generator"] = bench_generator(opts.out, opts.repeats)
     print("[bench] python3 -m postprocess.benchmark", flush=True)
     res["postprocess"] = bench_postprocess()
-    text = table(res)
+    print(f"[bench] YADE WirePM punch test: WireNet and YADE, {opts.yade_travel} m of travel, 1 core",
+          flush=True)
+    res["yade_punch"] = bench_yade_punch(opts.out, opts.yade_travel)
+    print(f"[bench] 1 vs 2 MPI ranks: 3 m compound punch and impact, {opts.rank_steps} steps", flush=True)
+    res["ranks"] = bench_ranks(opts.out, opts.rank_steps)
+    text = "\n\n".join([table(res), yade_table(res["yade_punch"]), ranks_table(res["ranks"])])
     print()
     print(text)
     (opts.out / "results.json").write_text(json.dumps(res, indent=2) + "\n")

@@ -303,7 +303,8 @@ def test_stl_block_mass_properties_and_orientation(tmp_path):
     etc.; turned 90 degrees about z its x and y moments swap and its lowest point stays c / 2
     below the centroid."""
     import numpy as np
-    from postprocess import impact, vtu
+    from postprocess import vtu
+    from runner import impact
     _box_stl(tmp_path / "box.stl", 0.6, 0.4, 0.2, (5.0, -3.0, 1.0))
     block = impact.Block(str(tmp_path), 12.0, None, stl=str(tmp_path / "box.stl"))
     expected = np.diag([12 * (0.4 ** 2 + 0.2 ** 2) / 12, 12 * (0.6 ** 2 + 0.2 ** 2) / 12,
@@ -321,7 +322,7 @@ def test_stl_block_mass_properties_and_orientation(tmp_path):
 
 
 def test_missing_previous_net_is_named(tmp_path):
-    from postprocess import impact
+    from runner import impact
     from postprocess.errors import PostprocessError
     with pytest.raises(PostprocessError, match="no net from the previous impact"):
         impact.Setup(str(tmp_path), "hex", quick=True, restart=str(tmp_path / "net.restart"))

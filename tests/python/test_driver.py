@@ -19,10 +19,12 @@ import lmp
 DRIVER = lmp.ROOT / "wirenet"
 
 
-def driver(*args, cwd=lmp.ROOT, timeout=600, umask=None, setup=False):
+def driver(*args, cwd=lmp.ROOT, timeout=600, umask=None, setup=False, env_extra=None):
     """Run ./wirenet; the set-up step (apt check, incremental build: about 7 s) only where the
     test is about the command exactly as typed."""
     env = dict(os.environ, WIRENET_BUILD=str(lmp.BUILD))
+    env.pop("WIRENET_NP", None)      # the defaults under test are the machine's, not the caller's
+    env.update(env_extra or {})
     if not setup:
         env["WIRENET_SETUP"] = "skip"
 
@@ -65,6 +67,7 @@ def test_readme_command_from_the_repository_root(default_out):
     assert (default_out / "report.md").is_file()
     meta = json.loads((default_out / "beam" / "case.json").read_text())
     assert meta["status"] == "ok" and meta["mode"] == "quick"
+    assert meta["np"] == len(os.sched_getaffinity(0))     # --np defaults to the cores (nproc)
     stray = {line for line in untracked() - before if not line[3:].startswith("out/")}
     assert not stray, f"the run left files in the source tree: {stray}"
 
@@ -91,6 +94,27 @@ def test_bad_commands_exit_2_with_one_line(tmp_path, args, phrase):
     assert len(errors) == 1 and phrase in errors[0], p.stderr
     assert "Traceback" not in p.stderr
     assert not (tmp_path / "o").exists() or not any((tmp_path / "o").iterdir())
+
+
+@pytest.mark.parametrize("value", ["abc", "0", "2.5", "-3"])
+def test_bad_wirenet_np_exits_2_with_one_line(tmp_path, value):
+    p = driver("run", "beam", "--quick", "--out", str(tmp_path / "o"), cwd=tmp_path,
+               env_extra={"WIRENET_NP": value})
+    assert p.returncode == 2, (p.returncode, p.stderr)
+    errors = [l for l in p.stderr.splitlines() if "error" in l]
+    assert errors == [f"wirenet run: error: WIRENET_NP must be an integer from 1 to 4096 "
+                      f"(got '{value}')"], p.stderr
+    assert not (tmp_path / "o").exists()
+
+
+def test_wirenet_np_sets_the_default_and_np_wins(tmp_path):
+    p = driver("run", "beam", "--quick", "--out", str(tmp_path / "a"), env_extra={"WIRENET_NP": "2"})
+    assert p.returncode == 0, p.stderr[-2000:]
+    assert json.loads((tmp_path / "a" / "beam" / "case.json").read_text())["np"] == 2
+    p = driver("run", "beam", "--quick", "--np", "1", "--out", str(tmp_path / "b"),
+               env_extra={"WIRENET_NP": "2"})
+    assert p.returncode == 0, p.stderr[-2000:]
+    assert json.loads((tmp_path / "b" / "beam" / "case.json").read_text())["np"] == 1
 
 
 def test_busy_output_folder_is_refused(tmp_path):

@@ -18,7 +18,8 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
-from postprocess import figure4, impact, plots, study, synthetic, vtu  # noqa: E402
+from postprocess import figure4, plots, study, synthetic, vtu  # noqa: E402
+from runner import impact  # noqa: E402
 
 DT = 1e-3
 STEPS = (0, 100, 200, 300)

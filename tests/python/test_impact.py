@@ -1,4 +1,4 @@
-"""Block impact (inputs/impact.in through postprocess/impact.py) and the energy tallies it uses.
+"""Block impact (inputs/impact.in through runner/impact.py) and the energy tallies it uses.
 
 - a single wire bond pulled past yield, released, reloaded and pulled to rupture: the plastic work
   tallied by the wire-law evaluation equals the area under the envelope minus the elastic
@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 
 import lmp
-from postprocess import impact
+from runner import impact
 from postprocess.errors import PostprocessError
 
 SW = ((0.0019230769, 2.5e8), (0.0192, 3.2195e8), (0.05, 3.8292e8), (0.15, 5.1219e8),

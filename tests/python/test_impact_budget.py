@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 import lmp
-from postprocess import impact
+from runner import impact
 from postprocess.datafile import read_data
 
 SPEED = 30.0        # m/s: 20 kJ into a 1.2 m hexagonal panel, wires yield and break

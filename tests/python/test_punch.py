@@ -1,4 +1,4 @@
-"""Quasi-static punch (inputs/punch.in through postprocess/punch.py) on the quick square panel
+"""Quasi-static punch (inputs/punch.in through runner/punch.py) on the quick square panel
 (1.2 m, 4 x 4 cells of strand rope, cone centred on the middle crossing), run once for the
 module:
 
@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 
 import lmp
-from postprocess import punch
+from runner import punch
 from postprocess.datafile import read_data
 
 

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import lmp
-from postprocess import punch
+from runner import punch
 
 FINE = 192          # segments around the axis of the fine STL
 DEPTH = 0.06        # the STL keeps the facets within this distance of the apex [m]

@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 
 import lmp
-from postprocess import punch, study
+from postprocess import study
+from runner import punch
 from postprocess.model import ROPE, ROPE_STRENGTH
 
 

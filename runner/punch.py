@@ -38,13 +38,12 @@ import time
 
 import numpy as np
 
-from . import bodyframes, liggghts, vtu, zone
-from . import model
-from .model import PAPER_BENDING, rope_strength_keyword
-from .csvio import read_csv, write_csv
-from .datafile import read_data
-from .errors import PostprocessError
-from .meta import PanelInfo, read_json
+from postprocess import bodyframes, liggghts, model, vtu, zone
+from postprocess.csvio import read_csv, write_csv
+from postprocess.datafile import read_data
+from postprocess.errors import PostprocessError
+from postprocess.meta import PanelInfo, read_json
+from postprocess.model import PAPER_BENDING, rope_strength_keyword
 
 # Materials and contacts (the SW curve among them, tests/reference/wire_law_traces/README.md):
 # their one source is inputs/include/materials.in, read by postprocess/model.
@@ -331,8 +330,8 @@ class Setup:
 
 def run_pair(setup, case_dir, np_=1):
     """The case at the chosen rate (case_dir/run) and, when the quasi-static check is on, four
-    times slower (case_dir/slow), side by side (two processes). Returns their folders and wall
-    times."""
+    times slower (case_dir/slow), side by side (two processes sharing the np_ ranks, at least one
+    each). Returns their folders and wall times."""
     results, errors = {}, []
 
     def one(name, factor):
@@ -345,7 +344,7 @@ def run_pair(setup, case_dir, np_=1):
         try:
             # the pre-load's length is not known in advance (it relaxes until the sag settles);
             # the deck restarts the step count at 0 after the line "pre-load: centre sag"
-            wall = liggghts.run(liggghts.INPUTS / "punch.in", workdir, variables, np=np_,
+            wall = liggghts.run(liggghts.INPUTS / "punch.in", workdir, variables, np=ranks,
                                 total_steps=steps, label=f"{name}", dt=setup.dt,
                                 phase_marker="pre-load: centre sag")
             results[name] = (workdir, wall, factor)
@@ -355,6 +354,7 @@ def run_pair(setup, case_dir, np_=1):
     threads = [threading.Thread(target=one, args=("run", 1.0))]
     if setup.quasi_static:
         threads.append(threading.Thread(target=one, args=("slow", float(SLOW_FACTOR))))
+    ranks = max(np_ // len(threads), 1)
     for t in threads:
         t.start()
     for t in threads:

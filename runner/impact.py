@@ -25,12 +25,14 @@ import time
 
 import numpy as np
 
-from . import bodyframes, liggghts, model, punch, solid, vtu
-from .csvio import read_csv, write_csv
-from .datafile import read_data
-from .errors import PostprocessError
-from .meta import PanelInfo, read_json
-from .model import PAPER_BENDING, rope_strength_keyword
+from postprocess import bodyframes, liggghts, model, solid, vtu
+from postprocess.csvio import read_csv, write_csv
+from postprocess.datafile import read_data
+from postprocess.errors import PostprocessError
+from postprocess.meta import PanelInfo, read_json
+from postprocess.model import PAPER_BENDING, rope_strength_keyword
+
+from . import punch
 
 BLOCK = dict(side=0.45, mass=44.5, speed=10.0)
 ALPHA = 0.5            # local damping on the net nodes (paper, dynamic runs)

@@ -2,7 +2,7 @@
 platter (fix mesh/surface/stress + wall/gran + move/mesh), run back to back on 1 rank (not a
 test; docs/PERFORMANCE.md, "Analytic platter against the STL platter").
 
-    WIRENET_BUILD=build /usr/bin/python3 -m postprocess.bench_body [--panel hex] [--full]
+    WIRENET_BUILD=build /usr/bin/python3 tests/bench/bench_body.py [--panel hex] [--full]
         [--steps 20000] [--repeat 2] [--out /tmp/bench_body]
         [--steps-per-m N]
 
@@ -15,8 +15,12 @@ the platter still meets the centre nodes at once), the quick panel its normal pr
 import argparse
 import os
 import re
+import sys
+from pathlib import Path
 
-from . import liggghts, punch
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))   # the repository's packages
+from postprocess import liggghts  # noqa: E402
+from runner import punch  # noqa: E402
 
 LOOP = re.compile(r"Loop time of ([0-9.eE+-]+) on \d+ procs for (\d+) steps")
 
@@ -44,7 +48,7 @@ def run(panel, full, steps, body_model, out, steps_per_m=None):
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(prog="python3 -m postprocess.bench_body")
+    p = argparse.ArgumentParser(prog="tests/bench/bench_body.py")
     p.add_argument("--panel", default="hex", choices=("hex", "square", "compound"))
     p.add_argument("--full", action="store_true")
     p.add_argument("--steps", type=int, default=20000)

@@ -103,3 +103,15 @@ def test_case_slack_keys_reach_every_wire_bond(tmp_path):
         e1 = first[btype]
         assert len(values) > 10, f"bond type {btype}: {len(values)} stretched bonds"
         assert np.allclose(values, e1 / (0.2 + 1.2 * e1), rtol=1e-9), (btype, min(values), max(values))
+
+
+def test_no_six_lines_repeated_between_runner_modules():
+    """The same rule for the Python modules of the runner (runner/*.py): a set-up shared by two
+    kinds of case lives in one function, not in two copies."""
+    modules = sorted((lmp.ROOT / "runner").glob("*.py"))
+    assert len(modules) >= 8
+    repeated = []
+    for i, a in enumerate(modules):
+        for b in modules[i + 1:]:
+            repeated += [f"{a.name}:{line} also in {b.name}" for line in shared_runs(a, b)]
+    assert not repeated, repeated

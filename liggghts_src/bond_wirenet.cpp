@@ -195,10 +195,15 @@ void BondWirenet::report_types()
     const BondTypeSpec &s = specs[t];
     if (s.kind == LawKind::WIRE) {
       const WireLaw &w = *wires[t];
+      // lambda_u 0 is no slack (the decks always pass the keyword, materials.in slack_u)
+      char slack[96] = "";
+      if (s.wire.slack && s.wire.lambda_u > 0.0)
+        snprintf(slack, sizeof(slack), ", random slack lambda_u %g lambda_f %g seed %ld", s.wire.lambda_u,
+                 s.wire.lambda_f, s.wire.seed);
       snprintf(line, sizeof(line),
                "bond_style wirenet: type %d wire (%s): d = %g m, A = %g m^2, %zu curve points, rupture strain %g%s%s, damping %g\n",
                t, s.family.c_str(), s.wire.diameter, w.area(), s.wire.strain.size(), s.wire.strain.back(),
-               s.wire.derived ? ", derived double twist" : "", s.wire.slack ? ", random slack" : "", s.wire.damping);
+               s.wire.derived ? ", derived double twist" : "", slack, s.wire.damping);
     }
     if (s.kind == LawKind::BEAM) {
       const BeamLawParams &b = s.beam;

@@ -89,27 +89,34 @@ void FixWirenetDamping::post_force(int)
 {
   const int nlocal = atom->nlocal;
   const int *mask = atom->mask;
+  // the per-atom arrays are read once: the force writes below could alias atom's members, which
+  // would make the compiler reload them at every atom
   double **f = atom->f, **v = atom->v;
+  double **t = rotational ? atom->torque : NULL, **w = rotational ? atom->omega : NULL;
+  const double a = alpha;
   // every entry is written below: grow only, no clearing pass
   if (fdamp.size() < 6 * (size_t)nlocal) fdamp.resize(6 * (size_t)nlocal);
-  for (int i = 0; i < nlocal; i++) {
-    double *fd = &fdamp[6 * (size_t)i];
+  double *fd = fdamp.data();
+  for (int i = 0; i < nlocal; i++, fd += 6) {
     if (!(mask[i] & groupbit)) {
       for (int k = 0; k < 6; k++) fd[k] = 0.0;
       continue;
     }
+    double *fi = f[i];
+    const double *vi = v[i];
     for (int k = 0; k < 3; k++) {
-      fd[k] = -alpha * fabs(f[i][k]) * sign_of(v[i][k]);
-      f[i][k] += fd[k];
+      fd[k] = -a * fabs(fi[k]) * sign_of(vi[k]);
+      fi[k] += fd[k];
     }
-    if (!rotational) {
+    if (!t) {
       fd[3] = fd[4] = fd[5] = 0.0;
       continue;
     }
-    double *t = atom->torque[i], *w = atom->omega[i];
+    double *ti = t[i];
+    const double *wi = w[i];
     for (int k = 0; k < 3; k++) {
-      fd[3 + k] = -alpha * fabs(t[k]) * sign_of(w[k]);
-      t[k] += fd[3 + k];
+      fd[3 + k] = -a * fabs(ti[k]) * sign_of(wi[k]);
+      ti[k] += fd[3 + k];
     }
   }
   ndamped = nlocal;
@@ -123,15 +130,26 @@ void FixWirenetDamping::end_of_step()
   if (ndamped != atom->nlocal) error->one(FLERR, "fix wirenet/damping: atoms changed between force and end of step");
   const double dt = update->dt;
   double **v = atom->v;
-  for (int i = 0; i < ndamped; i++) {
-    const double *fd = &fdamp[6 * (size_t)i];
-    work_mine[0] += dt * (fd[0] * v[i][0] + fd[1] * v[i][1] + fd[2] * v[i][2]);
-    for (int k = 0; k < 3; k++) impulse_mine[k] += dt * fd[k];
-    if (rotational) {
-      const double *w = atom->omega[i];
-      work_mine[1] += dt * (fd[3] * w[0] + fd[4] * w[1] + fd[5] * w[2]);
+  double **w = rotational ? atom->omega : NULL;
+  // local sums (the members would be written back at every atom), added in the same order
+  double work_f = 0.0, work_t = 0.0, jx = 0.0, jy = 0.0, jz = 0.0;
+  const double *fd = fdamp.data();
+  for (int i = 0; i < ndamped; i++, fd += 6) {
+    const double *vi = v[i];
+    work_f += dt * (fd[0] * vi[0] + fd[1] * vi[1] + fd[2] * vi[2]);
+    jx += dt * fd[0];
+    jy += dt * fd[1];
+    jz += dt * fd[2];
+    if (w) {
+      const double *wi = w[i];
+      work_t += dt * (fd[3] * wi[0] + fd[4] * wi[1] + fd[5] * wi[2]);
     }
   }
+  work_mine[0] += work_f;
+  work_mine[1] += work_t;
+  impulse_mine[0] += jx;
+  impulse_mine[1] += jy;
+  impulse_mine[2] += jz;
   ndamped = -1;
 }
 

@@ -72,15 +72,19 @@ def generator_options(case):
 
 
 def write_supports(case, setup_dir):
-    """The rendered supports include, or None for the paper's (inputs/include/hold.in)."""
+    """The deck variables of the case's supports: its rendered include and the matching unfix
+    file; none for the paper's (inputs/include/hold.in, unfix_supports.in)."""
     chosen = {e: case[f"supports.{e}"] for e in supports.EDGES}
     if chosen == supports.PAPER:
         return None
     os.makedirs(setup_dir, exist_ok=True)
-    path = os.path.join(setup_dir, "supports.in")
-    with open(path, "w", encoding="utf-8") as handle:
-        handle.write(supports.render(chosen))
-    return path
+    paths = {"supports": os.path.join(setup_dir, "supports.in"),
+             "unfix_supports": os.path.join(setup_dir, "unfix_supports.in")}
+    for name, text in (("supports", supports.render(chosen)),
+                       ("unfix_supports", supports.render_unfix(chosen))):
+        with open(paths[name], "w", encoding="utf-8") as handle:
+            handle.write(text)
+    return paths
 
 
 def output_options(case):

@@ -177,8 +177,8 @@ class Setup:
             v["save_net"] = 1
         if self.block.side:
             v.update(block_side=repr(self.block.side), block_cut=repr(self.block.cut))
-        if self.supports:
-            v["supports"] = os.path.abspath(self.supports)
+        if self.supports:     # {deck variable: include file} of runner/cases.write_supports
+            v.update((k, os.path.abspath(path)) for k, path in self.supports.items())
         if self.procs:
             v["procs"] = self.procs
         if self.bond_zeta:

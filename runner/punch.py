@@ -284,7 +284,10 @@ class Setup:
 
     def variables(self, speed_factor=1.0, every=None, stop_broken=None, travel=None):
         speed = self.speed / speed_factor
-        every = every or max(int(round(self.row_travel / (speed * self.dt))), 1)
+        if every is None:
+            every = max(int(round(self.row_travel / (speed * self.dt))), 1)
+            if every >= 200:     # a multiple of 20: the kinetic energy is sampled 20 times a row,
+                every = 20 * int(round(every / 20))     # not at every step (a pass per sample)
         ke_every = every // 20 if every % 20 == 0 else 1    # 20 kinetic-energy samples a row
         shape, axis = self.body_shape()
         v = dict(model_variables(self.materials),
@@ -302,8 +305,8 @@ class Setup:
                  platter_x=repr(float(self.platter_xy[0])), platter_y=repr(float(self.platter_xy[1])),
                  frame_every=max(int(math.ceil((travel or self.travel) / (speed * self.dt)
                                                / self.frames)), 1))
-        if self.supports:
-            v["supports"] = os.path.abspath(self.supports)
+        if self.supports:     # {deck variable: include file} of runner/cases.write_supports
+            v.update((k, os.path.abspath(path)) for k, path in self.supports.items())
         if self.bond_zeta:
             v["bond_zeta"] = repr(self.bond_zeta)
         if self.rope_strength:

@@ -2,11 +2,13 @@
 
 Each of the four edges (left x = -W/2, right x = +W/2, bottom y = -H/2, top y = +H/2) is
 pinned (held in x, y, z), sliding (held across its edge line and along z: the paper's support)
-or free. A corner node is held in every component that either of its two edges holds. Every
-node is in exactly one of eight setforce fixes (four edges without their corners, four corners),
-so a support reaction is the sum of the components those fixes remove where they hold, and the
-file stays re-includable after inputs/include/unfix_supports.in. inputs/include/hold.in is this
-renderer's output for four sliding edges (tests/python/test_case_files.py keeps them equal).
+or free. A corner node is held in every component that either of its two edges holds. The
+eight groups of edge nodes (four edges without their corners, four corners) that hold the same
+components share one setforce fix (each fix is a pass over every atom: the paper's four sliding
+edges need three, four pinned edges one), so every held node is in exactly one fix and a support
+reaction is the sum of the components the fixes remove. The unfix file (render_unfix) makes
+the supports re-includable. inputs/include/hold.in and unfix_supports.in are this renderer's
+output for four sliding edges (tests/python/test_case_files.py keeps them equal).
 """
 
 EDGES = ("left", "right", "bottom", "top")
@@ -24,17 +26,40 @@ def held(edge, kind):
     return {"pinned": "xyz", "sliding": _SLIDING[edge], "free": ""}[kind]
 
 
+# unions that edges.in already defines (no group of our own needed)
+_UNIONS = {frozenset(("left", "right")): "xedge", frozenset(("bottom", "top")): "yedge",
+           frozenset(("corner_lb", "corner_rb", "corner_lt", "corner_rt")): "corner",
+           frozenset(g for _, g, _ in _FIXES): "edge"}
+
+
+def fixes(supports):
+    """[(fix ID, group, setforce values, held components, member groups)]: one setforce fix per
+    distinct set of held components (a pass over the atoms per fix), none for free nodes."""
+    by_values = {}
+    for _, group, edges in _FIXES:
+        hold = set("".join(held(e, supports[e]) for e in edges))
+        if hold:
+            values = " ".join("0" if c in hold else "NULL" for c in "xyz")
+            by_values.setdefault(values, (hold, []))[1].append(group)
+    out = []
+    for k, (values, (hold, members)) in enumerate(by_values.items(), 1):
+        fix = f"hold_{k}"
+        group = members[0] if len(members) == 1 else _UNIONS.get(frozenset(members), fix)
+        out.append((fix, group, values, hold, members))
+    return out
+
+
 def render(supports):
     """Deck text of the supports {edge: kind} (every edge named)."""
     lines = ["# WireNet deck include, rendered by runner/supports.py: the edge supports "
              + ", ".join(f"{e} {supports[e]}" for e in EDGES) + ".",
-             "# Every edge node is in one setforce fix (edges without corners, then corners); a fix's",
+             "# One setforce fix per distinct set of held components (free nodes: none); a fix's",
              "# vector is the force it removed, so minus its held components is the support reaction.",
-             "# Needs the groups of edges.in; re-include after unfix_supports.in."]
+             "# Needs the groups of edges.in; re-include after its unfix file (render_unfix)."]
     terms = {c: [] for c in "xyz"}
-    for fix, group, edges in _FIXES:
-        hold = set("".join(held(e, supports[e]) for e in edges))
-        values = " ".join("0" if c in hold else "NULL" for c in "xyz")
+    for fix, group, values, hold, members in fixes(supports):
+        if group == fix:
+            lines.append(f"group           {fix} union {' '.join(members)}")
         lines.append(f"fix             {fix} {group} setforce {values}")
         for k, c in enumerate("xyz", 1):
             if c in hold:
@@ -42,6 +67,15 @@ def render(supports):
     for c in "xyz":
         expr = f"-({'+'.join(terms[c])})" if terms[c] else "0"
         lines.append(f"variable        r{c} equal {expr}")
+    return "\n".join(lines) + "\n"
+
+
+def render_unfix(supports):
+    """Deck text that removes the fixes of render(supports), so that it can be included again
+    after fixes that must act first (inputs/include/damping_then_supports.in)."""
+    lines = ["# WireNet deck include, rendered by runner/supports.py: remove the support fixes of "
+             + ", ".join(f"{e} {supports[e]}" for e in EDGES) + "."]
+    lines += [f"unfix           {fix}" for fix, *_ in fixes(supports)]
     return "\n".join(lines) + "\n"
 
 

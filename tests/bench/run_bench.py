@@ -247,6 +247,7 @@ def bench_yade_punch(out, travel):
     LIGGGHTS' loop time (everything in the step: bonds, contacts, body, damping, integration,
     outputs) against YADE's wall time of O.run (after a warm-up)."""
     folder = out / "yade_punch"
+    shutil.rmtree(folder, ignore_errors=True)     # a finished case would be skipped, not timed
     cmd = [sys.executable, "-P", "-m", "runner", "run", str(YADE_CASE), "--np", "1", "--out",
            str(folder), "--set", f"punch.travel={travel!r}"]
     p = subprocess.run(cmd, cwd=ROOT, env=dict(ENV, PYTHONPATH=str(ROOT)), stdout=subprocess.PIPE,

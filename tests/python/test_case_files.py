@@ -154,35 +154,60 @@ def test_calibration_fraction_flows_into_the_cases(tmp_path):
 # --- supports ---------------------------------------------------------------------------------
 
 def test_paper_supports_are_hold_in():
-    assert supports.render(supports.PAPER) == \
-        (lmp.ROOT / "inputs" / "include" / "hold.in").read_text()
+    include = lmp.ROOT / "inputs" / "include"
+    assert supports.render(supports.PAPER) == (include / "hold.in").read_text()
+    assert supports.render_unfix(supports.PAPER) == (include / "unfix_supports.in").read_text()
 
 
-def test_supports_hold_the_union_at_corners_and_sum_held_components_only():
+def test_supports_share_fixes_hold_the_union_at_corners_and_sum_held_components_only():
     text = supports.render(dict(left="pinned", right="free", bottom="sliding", top="free"))
-    assert "fix             hold_l left setforce 0 0 0" in text
-    assert "fix             hold_r right setforce NULL NULL NULL" in text
-    assert "fix             hold_b bottom setforce NULL 0 0" in text
-    assert "fix             hold_rb corner_rb setforce NULL 0 0" in text   # free + sliding
-    assert "fix             hold_lt corner_lt setforce 0 0 0" in text      # pinned + free
-    assert "fix             hold_rt corner_rt setforce NULL NULL NULL" in text
-    assert "variable        rx equal -(f_hold_l[1]+f_hold_lb[1]+f_hold_lt[1])" in text
-    assert "f_hold_r[" not in text and "f_hold_rt[" not in text
+    # pinned left with its two corners (pinned + free, pinned + sliding) in one fix, the sliding
+    # bottom with its free-side corner in another; the free right and top edges in none
+    assert "group           hold_1 union left corner_lb corner_lt\n" in text
+    assert "fix             hold_1 hold_1 setforce 0 0 0\n" in text
+    assert "group           hold_2 union bottom corner_rb\n" in text
+    assert "fix             hold_2 hold_2 setforce NULL 0 0\n" in text
+    assert text.count("\nfix ") == 2
+    assert "variable        rx equal -(f_hold_1[1])" in text
+    assert "variable        ry equal -(f_hold_1[2]+f_hold_2[2])" in text
+    # the groups edges.in already has are used as they are: one fix for four pinned edges
+    pinned = supports.render({e: "pinned" for e in supports.EDGES})
+    assert "fix             hold_1 edge setforce 0 0 0\n" in pinned and "group  " not in pinned
+    free = supports.render({e: "free" for e in supports.EDGES})
+    assert "\nfix " not in free and "variable        rz equal 0" in free
+    assert supports.render_unfix(dict(left="pinned", right="free", bottom="sliding", top="free")) \
+        .splitlines()[1:] == ["unfix           hold_1", "unfix           hold_2"]
 
 
-def test_supports_in_liggghts_block_what_they_say(tmp_path):
+def _held(node_edges, chosen):
+    return set("".join(supports.held(e, chosen[e]) for e in node_edges))
+
+
+@pytest.mark.parametrize("chosen", [
+    dict(left="pinned", right="sliding", bottom="free", top="sliding"),
+    dict(left="pinned", right="free", bottom="sliding", top="free"),
+    {e: "pinned" for e in supports.EDGES},
+    supports.PAPER,
+])
+def test_supports_in_liggghts_block_what_they_say(tmp_path, chosen):
     """A 3 x 3 grid of nodes typed as a panel's edges (types of doc/file_formats.md) under a
-    uniform force: the rendered supports hold exactly the components they name, and the
-    reactions v_rx v_ry v_rz balance the applied force on the held nodes."""
-    atoms, k = [], 0
+    uniform force: the rendered supports, included, removed by their unfix file and included
+    again, hold exactly the components they name, and the reactions v_rx v_ry v_rz balance the
+    applied force on the held nodes (counted here from the edges each node lies on)."""
+    atoms, k, expected = [], 0, {"x": 0.0, "y": 0.0, "z": 0.0}
+    push = {"x": 1.0, "y": 2.0, "z": 3.0}
     for j, y in enumerate((-1.0, 0.0, 1.0)):
         for i, x in enumerate((-1.0, 0.0, 1.0)):
             k += 1
             corner, xe, ye = (i != 1 and j != 1), (i != 1 and j == 1), (j != 1 and i == 1)
             t = 4 if corner else 2 if xe else 3 if ye else 1
             atoms.append((k, t, x, y, 0.0))
-    chosen = dict(left="pinned", right="sliding", bottom="free", top="sliding")
+            edges = ([("left", "right")[i // 2]] if i != 1 else []) + \
+                    ([("bottom", "top")[j // 2]] if j != 1 else [])
+            for c in _held(edges, chosen):
+                expected[c] -= push[c]
     (tmp_path / "supports.in").write_text(supports.render(chosen))
+    (tmp_path / "unfix.in").write_text(supports.render_unfix(chosen))
     data = tmp_path / "grid.data"
     lines = ["grid", "", "9 atoms", "8 atom types", "", "-2 2 xlo xhi", "-2 2 ylo yhi",
              "-2 2 zlo zhi", "", "Atoms", ""]
@@ -195,7 +220,9 @@ boundary f f f
 read_data {data}
 variable inc string {lmp.ROOT / 'inputs' / 'include'}
 include ${{inc}}/edges.in
-fix push all addforce 1.0 2.0 3.0
+fix push all addforce {push['x']} {push['y']} {push['z']}
+include {tmp_path / 'supports.in'}
+include {tmp_path / 'unfix.in'}
 include {tmp_path / 'supports.in'}
 fix integ all nve/sphere
 timestep 1e-3
@@ -205,11 +232,13 @@ run 10
 """
     out = lmp.run_deck(deck, tmp_path)
     row = lmp.thermo_rows(out)[-1]
-    # held counts: x: left 3 nodes (pinned) + right edge node and 2 corners (sliding) = 6;
-    # y: left 3 (pinned; the left-bottom corner too) + top edge node + right-top corner = 5,
-    # z: every node of the pinned left, the sliding right and top (all but the bottom edge node
-    # and the centre) = 7
-    assert (row["rx"], row["ry"], row["rz"]) == pytest.approx((-6.0, -10.0, -21.0))
+    assert (row["rx"], row["ry"], row["rz"]) == pytest.approx(
+        (expected["x"], expected["y"], expected["z"]))
+    if chosen == dict(left="pinned", right="sliding", bottom="free", top="sliding"):
+        # by hand: x: left 3 (pinned) + right edge node and 2 corners (sliding) = 6; y: left 3 +
+        # top edge node + right-top corner = 5 (x 2 N); z: all but the bottom edge node and the
+        # centre = 7 (x 3 N)
+        assert (row["rx"], row["ry"], row["rz"]) == pytest.approx((-6.0, -10.0, -21.0))
 
 
 # --- doc ----------------------------------------------------------------------------------------

@@ -444,6 +444,10 @@ def markdown(directory, summaries, claims, missing, figures, claims_bond=(), dis
                      "peak block force [N]",
                      "first rupture", "edge-force peak [N]", "wall time [s]"],
                     list(_case_rows(summaries)))
+    walls = [s["wall_time"] for s in summaries.values() if isinstance(s.get("wall_time"), (int, float))]
+    if walls:
+        lines += ["", f"Wall time of the cases: {sum(walls):.0f} s ({sum(walls) / 60:.1f} min) "
+                      f"over {len(walls)} case(s) (each as case.json records it, whenever it ran)."]
     endings = [f"- {n}: ended by {s['ended_by']}" +
                (f" at {fmt(s['first_rope_rupture']['displacement'])} m of platter travel"
                 if s.get("first_rope_rupture") else "")

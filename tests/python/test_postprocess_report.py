@@ -317,3 +317,9 @@ def test_report_says_where_the_bending_fraction_came_from(tmp_path):
     assert "- impact_compound: 0.05 (the paper's calibrated value (no calibration.json" in text
     block = text.split("Bending fraction of the rope beams")[1].split("\n## ")[0]
     assert "- punch_compound" in block and "- punch_hex" not in block
+
+
+def test_report_sums_the_cases_wall_times(tmp_path):
+    root = make_study(tmp_path)     # punch_hex 900 s and impact_hex 12.5 s in their case.json
+    _, text = report(root)
+    assert "Wall time of the cases: 912 s (15.2 min) over 2 case(s)" in text

@@ -324,6 +324,24 @@ def ranks_table(r):
     return "\n".join(lines)
 
 
+def study_table(folder):
+    """Wall time per case of a finished study folder (case.json of each case), or a note."""
+    if folder is None or not Path(folder).is_dir():
+        return ("Study wall times: no study folder (run `./wirenet run` first, or give "
+                "`--study DIR`).")
+    rows, total = [], 0.0
+    for meta_path in sorted(Path(folder).glob("*/case.json")):
+        meta = json.loads(meta_path.read_text())
+        wall = meta.get("wall_time")
+        timed = isinstance(wall, (int, float))
+        total += wall if timed else 0.0
+        rows.append(f"| {meta_path.parent.name} | {meta.get('mode', '?')} | {meta.get('status', '?')} | "
+                    f"{meta.get('np', '?')} | {f'{wall:.0f}' if timed else 'n/a'} |")
+    return "\n".join([f"Study `{shown(folder)}` (each case as its case.json records it, whenever it ran):", "",
+                      "| case | mode | status | ranks | wall time [s] |", "|---|---|---|---|---|",
+                      *rows, f"| **total** | | | | **{total:.0f}** ({total / 60:.1f} min) |"])
+
+
 def yade_table(y):
     w = y["wirenet"]
     lines = ["| YADE WirePM punch test, 1 core | nodes | links/bonds | steps of dt | ms per step |",
@@ -413,9 +431,13 @@ def main(argv=None):
     ap.add_argument("--out", type=Path, default=BUILD / "bench")
     ap.add_argument("--yade-travel", type=float, default=0.04,
                     help="sphere travel of the YADE punch comparison [m] (0.04: about 20 000 steps)")
+    ap.add_argument("--study", type=Path, default=ROOT / "out" / "compound",
+                    help="a finished study folder whose case wall times are tabulated "
+                         "(default out/compound, what ./wirenet run writes)")
     ap.add_argument("--rank-steps", type=int, default=4000,
                     help="steps of the 1-vs-2-rank comparison on the compound panel")
-    ap.add_argument("--only", choices=("yade", "ranks"), help="run one benchmark only (no doc rewrite)")
+    ap.add_argument("--only", choices=("yade", "ranks", "study"),
+                    help="run one benchmark only (no doc rewrite)")
     ap.add_argument("--no-doc", action="store_true", help="do not rewrite docs/PERFORMANCE.md")
     opts = ap.parse_args(argv)
     for exe in (LIGGGHTS, GEN):
@@ -424,6 +446,9 @@ def main(argv=None):
     opts.out.mkdir(parents=True, exist_ok=True)
     res = {"machine": machine_facts(), "repeats": opts.repeats,
            "command": "./wirenet bench" + "".join(f" {a}" for a in (argv or sys.argv[1:]))}
+    if opts.only == "study":
+        print(study_table(opts.study))
+        return 0
     if opts.only == "ranks":
         r = bench_ranks(opts.out, opts.rank_steps)
         print(ranks_table(r))
@@ -448,7 +473,8 @@ def main(argv=None):
     res["yade_punch"] = bench_yade_punch(opts.out, opts.yade_travel)
     print(f"[bench] 1 vs 2 MPI ranks: 3 m compound punch and impact, {opts.rank_steps} steps", flush=True)
     res["ranks"] = bench_ranks(opts.out, opts.rank_steps)
-    text = "\n\n".join([table(res), yade_table(res["yade_punch"]), ranks_table(res["ranks"])])
+    text = "\n\n".join([table(res), yade_table(res["yade_punch"]), ranks_table(res["ranks"]),
+                         study_table(opts.study)])
     print()
     print(text)
     (opts.out / "results.json").write_text(json.dumps(res, indent=2) + "\n")

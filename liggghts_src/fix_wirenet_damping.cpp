@@ -25,9 +25,10 @@ using namespace FixConst;
 static inline double sign_of(double v) { return (v > 0.0) - (v < 0.0); }
 
 FixWirenetDamping::FixWirenetDamping(LAMMPS *lmp, int narg, char **arg) :
-  Fix(lmp, narg, arg), alpha(0.0), rotational(false), ndamped(-1)
+  Fix(lmp, narg, arg), alpha(0.0), rotational(false), tally(true), ndamped(-1)
 {
-  if (narg != 4) error->all(FLERR, "fix wirenet/damping: expected 'fix ID GROUP wirenet/damping ALPHA'");
+  if (narg != 4 && narg != 6)
+    error->all(FLERR, "fix wirenet/damping: expected 'fix ID GROUP wirenet/damping ALPHA [tally yes|no]'");
   char *end = NULL;
   errno = 0;
   alpha = strtod(arg[3], &end);
@@ -40,13 +41,26 @@ FixWirenetDamping::FixWirenetDamping(LAMMPS *lmp, int narg, char **arg) :
     error->all(FLERR, msg.c_str());
   }
 
+  if (narg == 6) {
+    if (strcmp(arg[4], "tally") != 0) {
+      std::string msg = std::string("fix wirenet/damping: unknown keyword '") + arg[4] + "' (expected tally)";
+      error->all(FLERR, msg.c_str());
+    }
+    if (strcmp(arg[5], "yes") != 0 && strcmp(arg[5], "no") != 0) {
+      std::string msg = std::string("fix wirenet/damping: tally must be yes or no (got '") + arg[5] + "')";
+      error->all(FLERR, msg.c_str());
+    }
+    tally = strcmp(arg[5], "yes") == 0;
+  }
+
+  // without the tally there is no work or impulse: a reference to f_ID stops the run (reduce_work)
   scalar_flag = 1;
   vector_flag = 1;
   size_vector = 5;   // work of forces, work of torques, impulse x y z of the forces
   global_freq = 1;
   extscalar = 1;
   extvector = 1;
-  restart_global = 1;
+  restart_global = tally ? 1 : 0;
   work_mine[0] = work_mine[1] = 0.0;
   work_all[0] = work_all[1] = 0.0;
   for (int k = 0; k < 3; k++) impulse_mine[k] = impulse_all[k] = 0.0;
@@ -54,7 +68,7 @@ FixWirenetDamping::FixWirenetDamping(LAMMPS *lmp, int narg, char **arg) :
 
 int FixWirenetDamping::setmask()
 {
-  return POST_FORCE | END_OF_STEP;
+  return tally ? POST_FORCE | END_OF_STEP : POST_FORCE;
 }
 
 void FixWirenetDamping::init()
@@ -87,6 +101,16 @@ void FixWirenetDamping::setup(int vflag)
 
 void FixWirenetDamping::post_force(int)
 {
+  if (tally) damp<true>();
+  else damp<false>();
+}
+
+// The damping of every atom of the group; TALLY keeps each atom's damping force and torque for
+// end_of_step (the work and impulse), a 48-byte write per atom that a run without the budget
+// does not need.
+template <bool TALLY>
+void FixWirenetDamping::damp()
+{
   const int nlocal = atom->nlocal;
   const int *mask = atom->mask;
   // the per-atom arrays are read once: the force writes below could alias atom's members, which
@@ -95,11 +119,13 @@ void FixWirenetDamping::post_force(int)
   double **t = rotational ? atom->torque : NULL, **w = rotational ? atom->omega : NULL;
   const double a = alpha;
   // every entry is written below: grow only, no clearing pass
-  if (fdamp.size() < 6 * (size_t)nlocal) fdamp.resize(6 * (size_t)nlocal);
-  double *fd = fdamp.data();
-  for (int i = 0; i < nlocal; i++, fd += 6) {
+  if (TALLY && fdamp.size() < 6 * (size_t)nlocal) fdamp.resize(6 * (size_t)nlocal);
+  double scratch[6];
+  double *fd = TALLY ? fdamp.data() : scratch;
+  for (int i = 0; i < nlocal; i++, fd += TALLY ? 6 : 0) {
     if (!(mask[i] & groupbit)) {
-      for (int k = 0; k < 6; k++) fd[k] = 0.0;
+      if (TALLY)
+        for (int k = 0; k < 6; k++) fd[k] = 0.0;
       continue;
     }
     double *fi = f[i];
@@ -109,7 +135,7 @@ void FixWirenetDamping::post_force(int)
       fi[k] += fd[k];
     }
     if (!t) {
-      fd[3] = fd[4] = fd[5] = 0.0;
+      if (TALLY) fd[3] = fd[4] = fd[5] = 0.0;
       continue;
     }
     double *ti = t[i];
@@ -119,7 +145,7 @@ void FixWirenetDamping::post_force(int)
       ti[k] += fd[3 + k];
     }
   }
-  ndamped = nlocal;
+  if (TALLY) ndamped = nlocal;
 }
 
 // F(t+dt) . v(t+dt) dt with the full-step velocity: summed over all forces this equals the change of
@@ -155,6 +181,11 @@ void FixWirenetDamping::end_of_step()
 
 void FixWirenetDamping::reduce_work()
 {
+  if (!tally) {
+    std::string msg = std::string("fix wirenet/damping: fix ") + id +
+                      " keeps no work or impulse (tally no); give it 'tally yes' to output f_" + id;
+    error->all(FLERR, msg.c_str());
+  }
   MPI_Allreduce(work_mine, work_all, 2, MPI_DOUBLE, MPI_SUM, world);
   MPI_Allreduce(impulse_mine, impulse_all, 3, MPI_DOUBLE, MPI_SUM, world);
 }

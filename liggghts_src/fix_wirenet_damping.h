@@ -31,6 +31,8 @@ class FixWirenetDamping : public Fix {
  private:
   double alpha;
   bool rotational;            // the atom style has torque and omega
+  bool tally;                 // keep the work and impulse (keyword tally, default yes)
+  template <bool TALLY> void damp();
   // Damping force and torque of this step per local atom (6 doubles each), kept from post_force
   // to end_of_step, when the velocities of the same instant are known.
   std::vector<double> fdamp;

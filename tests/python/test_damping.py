@@ -190,3 +190,24 @@ def test_bad_alpha_is_named(tmp_path, alpha, message):
     out = lmp.run_deck(deck, tmp_path, check=False)
     errors = lmp.error_lines(out)
     assert errors and message in errors[0], out[-1500:]
+
+
+def test_tally_no_damps_the_same_and_has_no_work_to_output(tmp_path):
+    """`tally no` (the punch decks) skips only the bookkeeping: the trajectory is the same to the
+    bit, and a reference to the work it did not keep is an error naming the fix."""
+    dt, steps = 1.0 / 2000.0, 3000
+    for name in ("yes", "no", "ref"):
+        (tmp_path / name).mkdir()
+        write_oscillator(tmp_path / name / "osc.data")
+    base = oscillator_deck(0.3, dt, steps)
+    untallied = base.replace("wirenet/damping 0.3", "wirenet/damping 0.3 tally no") \
+                    .replace("v_r f_damp", "v_r")
+    tallied = lmp.thermo_rows(lmp.run_deck(base, tmp_path / "yes"))
+    plain = lmp.thermo_rows(lmp.run_deck(untallied, tmp_path / "no"))
+    assert len(plain) == len(tallied) == steps + 1
+    assert all(a["u"] == b["u"] and a["w"] == b["w"] for a, b in zip(plain, tallied))
+    assert tallied[-1]["damp"] < 0.0
+    rc, out = lmp.run_deck_rc(base.replace("wirenet/damping 0.3", "wirenet/damping 0.3 tally no"),
+                              tmp_path / "ref")
+    assert rc != 0 and lmp.error_lines(out) and "fix wirenet/damping: fix damp keeps no work or " \
+        "impulse (tally no); give it 'tally yes' to output f_damp" in lmp.error_lines(out)[0], out[-800:]

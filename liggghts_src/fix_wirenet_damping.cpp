@@ -157,7 +157,8 @@ void FixWirenetDamping::end_of_step()
   const double dt = update->dt;
   double **v = atom->v;
   double **w = rotational ? atom->omega : NULL;
-  // local sums (the members would be written back at every atom), added in the same order
+  // this step's sums in locals (the members would be written back at every atom), then added to
+  // the totals: the totals' round-off differs from an atom-by-atom sum in the last digits
   double work_f = 0.0, work_t = 0.0, jx = 0.0, jy = 0.0, jz = 0.0;
   const double *fd = fdamp.data();
   for (int i = 0; i < ndamped; i++, fd += 6) {

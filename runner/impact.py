@@ -44,7 +44,6 @@ BOND_ZETA = 0.05
 ALPHA_RELAX = 0.7      # while the net settles under its weight before the impact
 GAP = 0.005            # clearance between the block and the highest node under it [m]
 G = 9.81
-ZONE_RADIUS = 1.0
 DT_SAFETY = 0.5        # as the punch cases: half the stable step with the true masses
 OUTPUT_INTERVAL = 2e-4   # s between rows of impact.csv / block.csv
 DUMP_ROWS = 10           # rows between bond dumps (zone forces)
@@ -99,7 +98,7 @@ class Setup:
                  width=None, height=None, gen_options=(), supports=None, gravity=G,
                  velocity=None, point=(0.0, 0.0), quat=(1.0, 0.0, 0.0, 0.0), stl=None,
                  materials=None, restart=None, save_net=False, row_time=OUTPUT_INTERVAL,
-                 dump_rows=DUMP_ROWS, frames=FRAMES):
+                 dump_rows=DUMP_ROWS, frames=FRAMES, zones=punch.ZONES):
         velocity = (0.0, 0.0, -speed) if velocity is None else tuple(float(v) for v in velocity)
         if not (mass > 0 and side > 0 and np.linalg.norm(velocity) > 0):
             raise PostprocessError(f"impact: mass, side and speed must be > 0 (got {mass}, "
@@ -149,7 +148,8 @@ class Setup:
         self.every = max(int(round(row_time / self.dt)), 1)
         self.dump_every = self.every * int(dump_rows)
         self.frames = int(frames)
-        self.zone_r = ZONE_RADIUS + 0.2
+        # bonds.dump holds the bonds within zone_r of the panel centre's axis: every zone in it
+        self.zone_r = max(math.hypot(*offset) + radius for _, offset, radius in zones) + 0.2
 
     def variables(self):
         inertia = self.block.inertia
@@ -370,9 +370,8 @@ def rupture_facts(r):
 def run_case(case_dir, panel, bending=PAPER_BENDING, quick=False, np_=1, zones=punch.ZONES,
              **setup_options):
     """One impact case; returns the facts for case.json."""
-    setup = Setup(os.path.join(case_dir, "setup"), panel, bending, quick, **setup_options)
-    # bonds.dump holds the bonds within zone_r of the panel centre's axis: every zone inside it
-    setup.zone_r = max(math.hypot(*offset) + radius for _, offset, radius in zones) + 0.2
+    setup = Setup(os.path.join(case_dir, "setup"), panel, bending, quick, zones=zones,
+                  **setup_options)
     workdir = os.path.join(case_dir, "run")
     start = time.time()
     wall = liggghts.run(liggghts.INPUTS / "impact.in", workdir, setup.variables(), np=np_,

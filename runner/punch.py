@@ -82,6 +82,7 @@ DEFAULT_BODY = {"spheroid": "analytic", "cone": "analytic"}
 STL_RESOLUTION = 48  # segments around the axis of the platter STL (mesh path and frames)
 FRAMES = 20          # ParaView frames over the travel (inputs/include/frames.in)
 ROW_TRAVEL = 0.002   # m of platter travel between rows of punch.csv
+RAMP = 0.002         # m of travel over which the platter's speed grows from 0 (deck variable ramp)
 DUMP_ROWS = 5        # rows between bond dumps (zone forces, first rupture's picture)
 
 
@@ -296,7 +297,8 @@ class Setup:
                  layers=self.layers, bending=self.bending, alpha=self.alpha,
                  mass_scale=repr(self.mass_scale), g=repr(self.gravity),
                  dt=repr(self.dt), dt_preload=repr(self.dt_preload), relax_steps=self.relax_steps,
-                 speed=repr(speed), preload_mode=self.preload_mode, preload=repr(self.preload),
+                 speed=repr(speed), ramp=repr(RAMP), preload_mode=self.preload_mode,
+                 preload=repr(self.preload),
                  travel=travel or self.travel, every=every, ke_every=ke_every,
                  dump_every=every * self.dump_rows, out=".",
                  stop_broken=self.stop_broken if stop_broken is None else stop_broken,
@@ -318,7 +320,7 @@ class Setup:
         platter sums the step velocities of its step-wise ramp; the analytic body's ramp is
         linear in time (the two differ by half a step's travel at most)."""
         speed = self.speed / speed_factor
-        nramp = math.ceil(2 * 0.002 / (speed * self.dt))
+        nramp = math.ceil(2 * RAMP / (speed * self.dt))     # as inputs/punch.in computes it
         steps = np.asarray(steps, float)
         if self.body_model == "analytic":
             return speed * self.dt * np.where(steps <= nramp, steps ** 2 / (2 * nramp),

@@ -23,17 +23,20 @@ from postprocess import liggghts  # noqa: E402
 from runner import punch  # noqa: E402
 
 LOOP = re.compile(r"Loop time of ([0-9.eE+-]+) on \d+ procs for (\d+) steps")
+PRELOAD_DONE = "pre-load: centre sag"   # the punch deck's line before the timed phase
 
 
-def punch_rate(workdir):
-    """(steps, seconds) of the runs after the pre-load."""
-    text = open(os.path.join(workdir, "log.lammps"), errors="replace").read()
-    after = text.split("pre-load: centre sag", 1)[1]
-    pairs = [(int(n), float(t)) for t, n in LOOP.findall(after)]
+def loop_times(text, after=None):
+    """(steps, seconds) summed over the runs of a LIGGGHTS log, or of those after the line
+    starting with ``after``."""
+    if after is not None:
+        text = text.split(after, 1)[1]
+    pairs = [(int(n), float(t)) for t, n in LOOP.findall(text)]
     return sum(n for n, _ in pairs), sum(t for _, t in pairs)
 
 
-def run(panel, full, steps, body_model, out, steps_per_m=None):
+def run(panel, full, steps, body_model, out, steps_per_m=None, np_=1):
+    """(steps, seconds) of `steps` punch steps after a pre-load (short on the full panel)."""
     platter = "cone" if panel == "square" else "spheroid"
     setup = punch.Setup(os.path.join(out, "setup"), panel, platter, quick=not full,
                         body_model=body_model, steps_per_m=steps_per_m)
@@ -42,9 +45,11 @@ def run(panel, full, steps, body_model, out, steps_per_m=None):
     variables.update(dump_every=10 ** 9, frame_every=10 ** 9)
     if full:
         variables.update(relax_steps=2000, preload_tol=1)
-    liggghts.run(liggghts.INPUTS / "punch.in", os.path.join(out, "run"), variables,
-                 total_steps=steps, dt=setup.dt, phase_marker="pre-load: centre sag")
-    return punch_rate(os.path.join(out, "run"))
+    workdir = os.path.join(out, "run")
+    liggghts.run(liggghts.INPUTS / "punch.in", workdir, variables, np=np_,
+                 total_steps=steps, dt=setup.dt, phase_marker=PRELOAD_DONE)
+    with open(os.path.join(workdir, "log.lammps"), errors="replace") as handle:
+        return loop_times(handle.read(), PRELOAD_DONE)
 
 
 def main(argv=None):

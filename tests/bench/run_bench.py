@@ -28,6 +28,9 @@ import sys
 import time
 from pathlib import Path
 
+import bench_body   # tests/bench/bench_body.py: the timed punch, LIGGGHTS' loop times
+from bench_body import loop_times
+
 ROOT = Path(__file__).resolve().parents[2]
 BUILD = Path(os.environ.get("WIRENET_BUILD", ROOT / "build"))
 LIGGGHTS = BUILD / "bin" / "liggghts"
@@ -229,15 +232,10 @@ def bench_postprocess():
             "exit": p.returncode}
 
 
+RELEASED = "impact: block released"    # the impact deck's line before the timed phase
 YADE_CASE = ROOT / "docs" / "examples" / "yade_punch.toml"
 YADE_SCRIPT = ROOT / "tests" / "bench" / "yade_punch.py"
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-
-
-def loop_times(log):
-    """(seconds, steps) summed over the runs of a LIGGGHTS log ("Loop time of ..." lines)."""
-    loops = re.findall(r"Loop time of ([0-9.eE+-]+) on \d+ procs for (\d+) steps", log)
-    return sum(float(t) for t, _ in loops), sum(int(n) for _, n in loops)
 
 
 def bench_yade_punch(out, travel):
@@ -256,7 +254,7 @@ def bench_yade_punch(out, travel):
         raise RuntimeError("WireNet yade_punch failed:\n" + p.stdout[-3000:])
     case = folder / "yade_punch"
     meta = json.loads((case / "case.json").read_text())
-    seconds, steps = loop_times((case / "run" / "log.lammps").read_text())
+    steps, seconds = loop_times((case / "run" / "log.lammps").read_text())
     panel = json.loads((case / "setup" / "panel.json").read_text())["counts"]
     res = {"wirenet": {"nodes": panel["atoms"], "bonds": panel["bonds"], "steps": steps,
                        "loop_seconds": seconds, "ms_per_step": 1e3 * seconds / steps,
@@ -277,28 +275,16 @@ def bench_yade_punch(out, travel):
     return res
 
 
-def _timed_after(log, marker):
-    """(seconds, steps) of the runs after the line `marker` of a LIGGGHTS log."""
-    return loop_times(log.split(marker, 1)[1])
-
-
 def bench_ranks(out, steps, ranks=(1, 2)):
     """The 3 m compound panel's punch and impact on 1 and 2 MPI ranks: LIGGGHTS' loop time of
     `steps` steps of the load phase (after a short pre-load or settling, which is not timed).
     The set-ups are the study's (runner/punch.py, runner/impact.py); the bond dumps are off."""
-    sys.path.insert(0, str(ROOT))
     from postprocess import liggghts as lig
-    from runner import impact, punch
+    from runner import impact
     res = {}
     for np_ in ranks:
-        folder = out / f"ranks_punch_np{np_}"
-        setup = punch.Setup(str(folder / "setup"), "compound", "spheroid")
-        travel = steps * setup.speed * setup.dt
-        variables, _ = setup.variables(travel=travel, every=1000)
-        variables.update(dump_every=10 ** 9, frame_every=10 ** 9, relax_steps=2000, preload_tol=1)
-        lig.run(lig.INPUTS / "punch.in", str(folder / "run"), variables, np=np_,
-                total_steps=steps, dt=setup.dt, phase_marker="pre-load: centre sag")
-        seconds, n = _timed_after((folder / "run" / "log.lammps").read_text(), "pre-load: centre sag")
+        n, seconds = bench_body.run("compound", True, steps, "analytic",
+                                    str(out / f"ranks_punch_np{np_}"), np_=np_)
         res.setdefault("punch", {})[np_] = {"steps": n, "seconds": seconds}
         folder = out / f"ranks_impact_np{np_}"
         setup = impact.Setup(str(folder / "setup"), "compound", relax=0.002)
@@ -306,8 +292,8 @@ def bench_ranks(out, steps, ranks=(1, 2)):
         variables = setup.variables()
         variables.update(dump_every=10 ** 9, frame_every=10 ** 9)
         lig.run(lig.INPUTS / "impact.in", str(folder / "run"), variables, np=np_,
-                total_steps=steps, dt=setup.dt, phase_marker="impact: block released")
-        seconds, n = _timed_after((folder / "run" / "log.lammps").read_text(), "impact: block released")
+                total_steps=steps, dt=setup.dt, phase_marker=RELEASED)
+        n, seconds = loop_times((folder / "run" / "log.lammps").read_text(), RELEASED)
         res.setdefault("impact", {})[np_] = {"steps": n, "seconds": seconds}
     for case in res.values():
         one, two = case[ranks[0]], case[ranks[-1]]
@@ -485,4 +471,7 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    try:
+        sys.exit(main())
+    except RuntimeError as exc:    # a benchmark run failed: its message ends with the run's output
+        sys.exit(f"run_bench.py: error: {exc}")

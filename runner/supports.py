@@ -15,10 +15,10 @@ EDGES = ("left", "right", "bottom", "top")
 KINDS = ("pinned", "sliding", "free")
 # components held by a sliding edge: across the edge line and out of the plane
 _SLIDING = {"left": "xz", "right": "xz", "bottom": "yz", "top": "yz"}
-_FIXES = (("hold_l", "left", ("left",)), ("hold_r", "right", ("right",)),
-          ("hold_b", "bottom", ("bottom",)), ("hold_t", "top", ("top",)),
-          ("hold_lb", "corner_lb", ("left", "bottom")), ("hold_rb", "corner_rb", ("right", "bottom")),
-          ("hold_lt", "corner_lt", ("left", "top")), ("hold_rt", "corner_rt", ("right", "top")))
+# the eight node groups of edges.in and the edges each lies on
+_GROUPS = (("left", ("left",)), ("right", ("right",)), ("bottom", ("bottom",)), ("top", ("top",)),
+           ("corner_lb", ("left", "bottom")), ("corner_rb", ("right", "bottom")),
+           ("corner_lt", ("left", "top")), ("corner_rt", ("right", "top")))
 
 
 def held(edge, kind):
@@ -29,14 +29,14 @@ def held(edge, kind):
 # unions that edges.in already defines (no group of our own needed)
 _UNIONS = {frozenset(("left", "right")): "xedge", frozenset(("bottom", "top")): "yedge",
            frozenset(("corner_lb", "corner_rb", "corner_lt", "corner_rt")): "corner",
-           frozenset(g for _, g, _ in _FIXES): "edge"}
+           frozenset(g for g, _ in _GROUPS): "edge"}
 
 
 def fixes(supports):
     """[(fix ID, group, setforce values, held components, member groups)]: one setforce fix per
     distinct set of held components (a pass over the atoms per fix), none for free nodes."""
     by_values = {}
-    for _, group, edges in _FIXES:
+    for group, edges in _GROUPS:
         hold = set("".join(held(e, supports[e]) for e in edges))
         if hold:
             values = " ".join("0" if c in hold else "NULL" for c in "xyz")

@@ -118,10 +118,15 @@ void BondWirenet::init_style()
   // damping reads the velocities of both nodes, also of a ghost partner
   history->use_velocities(any_damping);
   list_version = -1;  // the damping coefficients of the beam list may have changed
-  // Node orientations cost a pass over the atoms and a ghost exchange every step: track them
-  // only when a beam bond exists (a hexagonal net with the deck's rope type declared has none;
+  // Node orientations cost a pass over the beam ends and a ghost exchange every step: track
+  // them only when a beam bond exists (a hexagonal net with the deck's rope type declared has none;
   // bonds are never created during a run, so the answer holds until the next init).
-  history->use_orientations(any_beam && beam_bonds_present());
+  std::vector<char> beam_types;
+  if (any_beam && beam_bonds_present()) {
+    beam_types.assign(atom->nbondtypes + 1, 0);
+    for (int t = 1; t <= atom->nbondtypes; t++) beam_types[t] = beams[t] ? 1 : 0;
+  }
+  history->use_orientations(beam_types);
   const double lmax = history->max_bond_length_global();
   history->set_ghost_extent(lmax * stretch);
   if (comm->me == 0) report_types();

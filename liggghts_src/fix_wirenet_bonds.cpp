@@ -56,6 +56,7 @@ FixWirenetBonds::FixWirenetBonds(LAMMPS *lmp, int narg, char **arg) :
   size_local_rows = 0;
   array_local = NULL;
   comm_forward = 15;  // the most sent per ghost: rotation matrix (9), velocity and omega (6)
+  comm_reverse = 1;   // beam-end marks of ghost atoms, to their owners (find_beam_ends)
 
   nslots = atom->bond_per_atom;
   grow_arrays(atom->nmax);
@@ -319,8 +320,8 @@ void FixWirenetBonds::check_partners_present()
       }
 }
 
-void FixWirenetBonds::setup_pre_neighbor() { check_partners_present(); version++; }
-void FixWirenetBonds::pre_neighbor() { check_partners_present(); version++; }
+void FixWirenetBonds::setup_pre_neighbor() { check_partners_present(); find_beam_ends(); version++; }
+void FixWirenetBonds::pre_neighbor() { check_partners_present(); find_beam_ends(); version++; }
 
 // Comm::setup() takes the ghost cutoff as MAX(..., extend_cut_ghost() + skin). For spheres in an
 // orthogonal box (atom radius present) LIGGGHTS' granular border optimisation then copies only the
@@ -384,14 +385,15 @@ double FixWirenetBonds::max_bond_length_global()
 
 /* ------------------------------------------------------------------------------------------- */
 
-// Advance node orientations with the half-step angular velocity: an exact rotation by
-// |omega| dt about omega, so the beam law sees the rigid rotation without drift.
+// Advance the orientations of the beam ends with the half-step angular velocity: an exact
+// rotation by |omega| dt about omega, so the beam law sees the rigid rotation without drift.
+// Other nodes carry no beam, and a wire or contact never reads an orientation.
 void FixWirenetBonds::post_integrate()
 {
   if (!orient_flag) return;
   const double dt = update->dt;
   double **omega = atom->omega;
-  for (int i = 0; i < atom->nlocal; i++) {
+  for (const int i : oriented) {
     const double *w = omega[i];
     const double wn = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
     if (wn == 0.0) continue;
@@ -409,17 +411,51 @@ void FixWirenetBonds::post_integrate()
   }
 }
 
-// The beam law reads rotation matrices: computed once per node and step rather than once per
-// bond end, and sent to the ghosts.
+// The beam law reads rotation matrices: computed once per beam end and step rather than once
+// per bond end, and sent to the ghosts (those of other nodes are sent but never read).
 void FixWirenetBonds::refresh_rotations()
 {
-  for (int i = 0; i < atom->nlocal; i++) {
+  for (const int i : oriented) {
     const double w = quat[i][0], x = quat[i][1], y = quat[i][2], z = quat[i][3];
     double *r = rot[i];
     r[0] = 1 - 2 * (y * y + z * z); r[1] = 2 * (x * y - w * z);     r[2] = 2 * (x * z + w * y);
     r[3] = 2 * (x * y + w * z);     r[4] = 1 - 2 * (x * x + z * z); r[5] = 2 * (y * z - w * x);
     r[6] = 2 * (x * z - w * y);     r[7] = 2 * (y * z + w * x);     r[8] = 1 - 2 * (x * x + y * y);
   }
+}
+
+// The local atoms at either end of a beam bond. Bonds are stored once (newton_bond on), so the
+// end that is a ghost here is marked and the mark sent to its owner. Called after every exchange
+// (local indices change there) with the ghosts and the atom map current.
+void FixWirenetBonds::find_beam_ends()
+{
+  oriented.clear();
+  if (!orient_flag) return;
+  const int nlocal = atom->nlocal;
+  const int *num_bond = atom->num_bond;
+  int **bond_atom = atom->bond_atom, **bond_type = atom->bond_type;
+  end_mark.assign(nlocal + atom->nghost, 0.0);
+  for (int i = 0; i < nlocal; i++)
+    for (int m = 0; m < num_bond[i]; m++) {
+      const int t = bond_type[i][m];
+      if (t <= 0 || t >= (int)beam_type.size() || !beam_type[t]) continue;
+      end_mark[i] = 1.0;
+      end_mark[atom->map(bond_atom[i][m])] = 1.0;  // present: check_partners_present()
+    }
+  comm->reverse_comm_fix(this);
+  for (int i = 0; i < nlocal; i++)
+    if (end_mark[i] > 0.0) oriented.push_back(i);
+}
+
+int FixWirenetBonds::pack_reverse_comm(int n, int first, double *buf)
+{
+  for (int k = 0; k < n; k++) buf[k] = end_mark[first + k];
+  return 1;
+}
+
+void FixWirenetBonds::unpack_reverse_comm(int n, int *list, double *buf)
+{
+  for (int k = 0; k < n; k++) end_mark[list[k]] += buf[k];
 }
 
 // Before the forces: the rotation matrices (beam bonds) and the velocities (bond damping) of the

@@ -48,6 +48,8 @@ class FixWirenetBonds : public Fix {
   int maxsize_restart();
   int pack_comm(int, int *, double *, int, int *);
   void unpack_comm(int, int, double *);
+  int pack_reverse_comm(int, int, double *);
+  void unpack_reverse_comm(int, int *, double *);
   void write_restart(FILE *);
   void restart(char *);
   double memory_usage();
@@ -60,7 +62,9 @@ class FixWirenetBonds : public Fix {
   const double *rotations() const { return rot[0]; }  // all of them: 9 per atom, one block
   // bumped whenever local atom indices or bond slots may have changed
   long list_version() const { return version; }
-  void use_orientations(bool on) { orient_flag = on ? 1 : 0; }
+  // beam[t] != 0 for the bond types of a beam law: their end nodes are the only ones whose
+  // orientation is tracked (an empty list: no beam bond exists)
+  void use_orientations(const std::vector<char> &beam) { beam_type = beam; orient_flag = !beam.empty(); }
   // send velocities and angular velocities to the ghost atoms before the forces (bond damping;
   // LIGGGHTS sends them only with 'communicate ... vel yes')
   void use_velocities(bool on) { vel_flag = on ? 1 : 0; }
@@ -87,6 +91,9 @@ class FixWirenetBonds : public Fix {
   double **quat;     // [nmax][4] node orientation (w, x, y, z), space frame
   double **rot;      // [nmax][9] its rotation matrix, derived each step, sent to ghosts
   int orient_flag, vel_flag;
+  std::vector<char> beam_type;    // [type]: a beam law
+  std::vector<int> oriented;      // local atoms at a beam end: the only ones whose orientation matters
+  std::vector<double> end_mark;   // [nlocal + nghost] scratch of find_beam_ends
   long version;
   double ghost_extent;
   bigint nbroken_total;  // all ranks, since the bonds were created (restarted)
@@ -106,6 +113,7 @@ class FixWirenetBonds : public Fix {
   void refresh_ghosts();
   void remove_broken_bonds(bool scan_all);
   void check_partners_present();
+  void find_beam_ends();
 };
 
 }

@@ -100,3 +100,43 @@ def test_pure_twist_matches_GJ(tmp_path):
     phi = omega_tip * steps * DT
     expected = 0.3 * G * J * phi / L
     assert abs(T - expected) / expected < 1e-4
+
+
+@pytest.mark.parametrize("np_", [1, 2])
+def test_rigid_half_turn_across_ranks(tmp_path, np_):
+    """A bent and twisted chain of beam bonds (and two nodes without bonds) turned rigidly by half
+    a turn about z: every node crosses the split plane of a 2-rank run and migrates, with atoms
+    exchanged at every step. Only the ends of beam bonds carry an orientation, found again after
+    each exchange (a node whose orientation were lost there would feel spurious moments)."""
+    n, L = 6, 1.0
+    atoms = [(k + 1, 1, -0.5 + L * k / (n - 1), 0.05, 0.0, D, 7850.0, 1) for k in range(n)]
+    atoms += [(n + 1, 1, 0.3, -0.4, 0.0, D, 7850.0, 2), (n + 2, 1, -0.3, 0.4, 0.0, D, 7850.0, 3)]
+    bonds = [(k + 1, 1, k + 1, k + 2) for k in range(n - 1)]
+    lmp.write_data(tmp_path / "chain.data", atoms, bonds)
+    steps_half = 1000
+    period = 2 * steps_half * DT
+    names = [f"{q}{a}{i}" for i in (1, n) for q in "FT" for a in "xyz"]
+    deck = [lmp.PREAMBLE, f"processors {np_} 1 1", "read_data chain.data", "bond_style wirenet",
+            f"bond_coeff 1 beam diameter {D} E {E} nu {NU} bending 0.7 shear eb",
+            f"timestep {DT!r}", "neigh_modify every 1 delay 0 check no",
+            f"group tip id {n}",
+            # bend and twist the tip node about its own centre, then hold the shape
+            "fix b tip move rotate 0.5 0.05 0 0 1 0 1e-3\nrun 25\nunfix b",
+            "fix t tip move rotate 0.5 0.05 0 1 0 0 2e-3\nrun 20\nunfix t"]
+    for i in (1, n):
+        deck += [f"variable Fx{i} equal fx[{i}]\nvariable Fy{i} equal fy[{i}]\nvariable Fz{i} equal fz[{i}]",
+                 f"variable Tx{i} equal tqx[{i}]\nvariable Ty{i} equal tqy[{i}]\nvariable Tz{i} equal tqz[{i}]"]
+    deck += ["thermo_style custom step " + " ".join(f"v_{k}" for k in names),
+             "thermo_modify format float %.17g", "thermo 1", "run 0",
+             f"fix rr all move rotate 0 0 0 0 0 1 {period!r}", f"thermo {steps_half}",
+             f"run {steps_half}"]
+    out = lmp.run_deck("\n".join(deck) + "\n", tmp_path, np=np_)
+    by_step = {int(r["Step"]): r for r in lmp.thermo_rows(out) if names[0] in r}
+    end = max(by_step)
+    ref = np.array([by_step[end - steps_half][k] for k in names]).reshape(4, 3)
+    got = np.array([by_step[end][k] for k in names]).reshape(4, 3)
+    assert np.abs(ref).max() > 1e-3  # the bent chain carries real forces and moments
+    want = (rotation((0, 0, 1), math.pi) @ ref.T).T
+    assert np.abs(got - want).max() <= 1e-9 * np.abs(ref).max()
+    if np_ == 2:
+        assert "2 by 1 by 1 MPI processor grid" in out

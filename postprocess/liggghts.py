@@ -47,13 +47,44 @@ def generate(kind, out_prefix, *options):
 # group, so that an interrupted study can stop them with all their ranks (stop_all).
 _LIVE = set()
 _LIVE_LOCK = threading.Lock()
+_STOPPED = threading.Event()   # set by stop_all: no new run starts (cases run in threads)
 
 
 def stop_all(grace=5.0):
-    """Stop every running LIGGGHTS process group (see stop)."""
+    """Stop every running LIGGGHTS process group (see stop); runs asked for afterwards fail at
+    once, until allow_new_runs()."""
+    _STOPPED.set()
     with _LIVE_LOCK:
         procs = list(_LIVE)
     stop(procs, grace)
+
+
+def allow_new_runs():
+    _STOPPED.clear()
+
+
+# The case a thread works for: progress lines name it when cases run side by side.
+_CONTEXT = threading.local()
+
+
+class labelled:
+    """``with labelled(NAME):`` prefixes this thread's progress lines with NAME."""
+
+    def __init__(self, name):
+        self.name = name
+
+    def __enter__(self):
+        self.previous = current_label()
+        _CONTEXT.label = self.name
+        return self
+
+    def __exit__(self, *exc):
+        _CONTEXT.label = self.previous
+        return False
+
+
+def current_label():
+    return getattr(_CONTEXT, "label", None)
 
 
 def stop(procs, grace=5.0):
@@ -99,11 +130,15 @@ def run(deck, workdir, variables=None, np=1, total_steps=None, label="", dt=None
     if np > 1:
         cmd = ["mpirun", "-np", str(np)] + cmd
     start = time.time()
+    if current_label():
+        label = f"{current_label()}: {label}"
     # own process group: a signal to the study reaches LIGGGHTS only through stop_all, which
-    # also reaches every rank under mpirun
-    proc = subprocess.Popen(cmd, cwd=workdir, env=mpi_env(), stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True, start_new_session=True)
+    # also reaches every rank under mpirun; the check and the start are one step under the lock
     with _LIVE_LOCK:
+        if _STOPPED.is_set():
+            raise PostprocessError(f"LIGGGHTS not started in {workdir}: the study is stopping")
+        proc = subprocess.Popen(cmd, cwd=workdir, env=mpi_env(), stdout=subprocess.PIPE,
+                                stderr=subprocess.STDOUT, text=True, start_new_session=True)
         _LIVE.add(proc)
     try:
         output = _follow(proc, workdir, total_steps, label, dt, phase_marker)

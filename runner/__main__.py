@@ -38,9 +38,10 @@ def build_parser():
                           "inputs/cases/, or a case or study file")
     run.add_argument("--quick", action="store_true", help="coarse, short versions of the cases")
     run.add_argument("--np", type=_ranks, default=None, metavar="N",
-                     help="MPI ranks a case uses (default: WIRENET_NP, else the machine's cores "
-                          "as nproc counts them); a punch's run and its 4x slower twin run side "
-                          "by side on N/2 ranks each")
+                     help="cores to use (default: WIRENET_NP, else the machine's cores as nproc "
+                          "counts them): one case runs on N MPI ranks (a punch's run and its 4x "
+                          "slower twin side by side on N/2 each); a study runs its cases side by "
+                          "side, one rank each (two for a punch and its twin)")
     run.add_argument("--out", metavar="DIR", help="output folder (default: out/NAME)")
     run.add_argument("--set", action="append", metavar="KEY=VALUE",
                      help="override a case-file key (TOML value; repeatable), e.g. "

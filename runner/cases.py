@@ -115,9 +115,17 @@ class CaseRunner:
         """(folder name, index) of each run of the case: one, except for impact sequences."""
         return [(self.case.name, 0)]
 
+    def width(self):
+        """LIGGGHTS runs of a unit at the same time: the ranks it can keep busy when cases of a
+        study run side by side (runner/study.py)."""
+        return 1
+
 
 class PunchCase(CaseRunner):
     """A quasi-static punch (runner/punch.py, inputs/punch.in)."""
+
+    def width(self):
+        return 2 if self.case["punch.quasi_static_check"] else 1
 
     def run(self, index, case_dir, study_dir, np_):
         c = self.case

@@ -339,7 +339,13 @@ def run_pair(setup, case_dir, np_=1):
     each). Returns their folders and wall times."""
     results, errors = {}, []
 
+    case_label = liggghts.current_label()   # this thread's; the run and the twin get it too
+
     def one(name, factor):
+        with liggghts.labelled(case_label):
+            two(name, factor)
+
+    def two(name, factor):
         workdir = os.path.join(case_dir, name)
         # the comparison ends at the first rupture: the slow run stops there
         slow = factor > 1

@@ -14,6 +14,7 @@ import os
 import shutil
 import signal
 import sys
+import threading
 import time
 import tomllib
 
@@ -206,38 +207,119 @@ def default_ranks():
     return value
 
 
+class Job:
+    """One case folder of a study: what it runs, on how many ranks, and how it ended."""
+
+    def __init__(self, case, runner, name, index, number, total):
+        self.case, self.runner, self.name, self.index = case, runner, name, index
+        self.prefix = f"[case {number}/{total}] {name}"
+        self.kind = cases.record_kind(case)
+        self.fingerprint = case_fingerprint(case)
+        # an impact of a sequence starts from the net the previous one left
+        self.after = runner.units()[index - 1][0] if index > 0 else None
+        self.ranks = self.cost = 1
+        self.thread = self.error = self.facts = None
+        self.start = self.wall = 0.0
+
+    def meta(self, out, quick, **extra):
+        mode = "quick" if quick else "full"
+        return dict(kind=self.kind, quick=quick, mode=mode, np=self.ranks,
+                    case_file=self.case.path, case_fingerprint=self.fingerprint,
+                    title=self.case["title"], **extra)
+
+    def work(self, out):
+        """The case, in its own thread: errors are kept for the study's thread."""
+        try:
+            with liggghts.labelled(self.name):
+                self.facts = self.runner.run(self.index, os.path.join(out, self.name), out,
+                                             self.ranks)
+        except BaseException as exc:   # noqa: B902 (handed on to the study's thread)
+            self.error = exc
+        self.wall = time.time() - self.start
+
+
+def _plan(jobs, np_):
+    """Ranks of each case. Alone, or on one core, a case takes all --np ranks (a punch splits
+    them between its run and its twin). Several cases on several cores run side by side, each
+    on as few ranks as it can use well: one, two for a punch with its twin (one each); a net
+    of a few thousand nodes gains less from a second rank than a second case does
+    (docs/PERFORMANCE.md). Returns the number of cores shared out."""
+    if np_ == 1 or len(jobs) == 1:
+        for job in jobs:
+            job.ranks, job.cost = np_, 1
+        return 1
+    for job in jobs:
+        job.ranks = job.cost = min(job.runner.width(), np_)
+    return np_
+
+
 def run_cases(loaded, out, quick, np_):
-    """Run the cases not yet complete in this mode; the folder lock is held by the caller."""
+    """Run the cases not yet complete in this mode, side by side where cores allow (_plan);
+    the folder lock is held by the caller. A failed case stops the others (marked
+    'interrupted', redone on the next run) and the study."""
     units = [(case, runner, name, index) for case in loaded
              for runner in [cases.runner_of(case)] for name, index in runner.units()]
+    jobs = []
     for k, (case, runner, name, index) in enumerate(units, 1):
-        kind = cases.record_kind(case)
-        case_dir = os.path.join(out, name)
-        prefix = f"[case {k}/{len(units)}] {name}"
-        fingerprint = case_fingerprint(case)
-        if _complete(case_dir, kind, quick, fingerprint):
-            print(f"{prefix}: complete, skipped (delete {case_dir} to run it again)", flush=True)
-            continue
-        _fresh_case_dir(case_dir)
-        mode = "quick" if quick else "full"
-        base = dict(kind=kind, quick=quick, mode=mode, np=np_, case_file=case.path,
-                    case_fingerprint=fingerprint, title=case["title"])
-        # 'running' until the runner returns: an interrupted or failed case is never 'ok'
-        _write_meta(case_dir, dict(base, status="running"))
-        print(f"{prefix}: running ({mode}) from {os.path.relpath(case.path)}", flush=True)
-        start = time.time()
-        try:
-            facts = runner.run(index, case_dir, out, np_)
-        except Interrupted:
-            _write_meta(case_dir, dict(base, status="interrupted"))
-            raise
-        except Exception as exc:
-            _write_meta(case_dir, dict(base, status="failed", error=str(exc)))
-            raise
-        wall = time.time() - start
-        _write_meta(case_dir, dict(base, status="ok", wall_time=wall, **facts))
-        print(f"{prefix}: done in {wall:.1f} s", flush=True)
+        job = Job(case, runner, name, index, k, len(units))
+        if _complete(os.path.join(out, name), job.kind, quick, job.fingerprint):
+            print(f"{job.prefix}: complete, skipped (delete {os.path.join(out, name)} to run it "
+                  "again)", flush=True)
+        else:
+            jobs.append(job)
+    capacity = _plan(jobs, np_)
+    liggghts.allow_new_runs()
+    pending, running = list(jobs), []
+    try:
+        while pending or running:
+            free = capacity - sum(j.cost for j in running)
+            for job in list(pending):
+                if job.cost > free or (job.after is not None and job.after in
+                                       {j.name for j in pending + running}):
+                    continue
+                _launch(job, out, quick)
+                pending.remove(job)
+                running.append(job)
+                free -= job.cost
+            if not running:   # cannot happen: a case waits only for one that runs or waits
+                raise StudyError("internal error: no case can start")
+            running[0].thread.join(0.2)
+            for job in [j for j in running if not j.thread.is_alive()]:
+                running.remove(job)
+                if job.error is not None:
+                    pending.clear()
+                    _stop_jobs(running, out, quick)
+                    _write_meta(os.path.join(out, job.name), job.meta(
+                        out, quick, status="failed", error=str(job.error)))
+                    raise job.error
+                _write_meta(os.path.join(out, job.name), job.meta(
+                    out, quick, status="ok", wall_time=job.wall, **job.facts))
+                print(f"{job.prefix}: done in {job.wall:.1f} s", flush=True)
+    except Interrupted:
+        _stop_jobs(running, out, quick)
+        raise
     return [name for _, _, name, _ in units]
+
+
+def _launch(job, out, quick):
+    case_dir = os.path.join(out, job.name)
+    _fresh_case_dir(case_dir)
+    # 'running' until the case returns: an interrupted or failed case is never 'ok'
+    _write_meta(case_dir, job.meta(out, quick, status="running"))
+    side = f", {job.ranks} rank{'s' if job.ranks > 1 else ''}"
+    print(f"{job.prefix}: running ({'quick' if quick else 'full'}{side}) from "
+          f"{os.path.relpath(job.case.path)}", flush=True)
+    job.start = time.time()
+    job.thread = threading.Thread(target=job.work, args=(out,), daemon=True)
+    job.thread.start()
+
+
+def _stop_jobs(running, out, quick):
+    """Stop the LIGGGHTS runs of the running cases and mark them interrupted."""
+    liggghts.stop_all()
+    for job in running:
+        job.thread.join()
+        _write_meta(os.path.join(out, job.name), job.meta(out, quick, status="interrupted"))
 
 
 def run(args):

@@ -138,7 +138,7 @@ def test_quick_result_never_stands_for_a_full_case(tmp_path):
     assert "complete, skipped" in p.stdout
     p = driver("run", "beam", "--out", str(out))
     assert p.returncode == 0, p.stderr[-2000:]
-    assert "complete, skipped" not in p.stdout and "running (full)" in p.stdout
+    assert "complete, skipped" not in p.stdout and "running (full" in p.stdout
     meta = json.loads((out / "beam" / "case.json").read_text())
     assert meta["quick"] is False and meta["mode"] == "full"
     summary = json.loads((out / "summary.json").read_text())
@@ -266,3 +266,78 @@ def test_interrupt_during_setup_stops_the_build(tmp_path):
         assert not _processes_naming(str(build)), _processes_naming(str(build))
     finally:
         _stop(proc)
+
+
+def _two_impacts(tmp_path, second="impact_hex"):
+    """A study file of two impact cases (names of inputs/cases)."""
+    study = tmp_path / "two.toml"
+    study.write_text(f'cases = ["impact_compound", "{second}"]\n')
+    return study
+
+
+def test_cases_of_a_study_run_side_by_side(tmp_path):
+    """On two cores two impacts run at once, one rank each: the second starts before the first
+    ends, and each case.json says 1 rank; alone, a case takes both."""
+    out = tmp_path / "side"
+    p = driver("run", str(_two_impacts(tmp_path)), "--quick", "--np", "2", "--out", str(out))
+    assert p.returncode == 0, p.stderr[-2000:]
+    lines = p.stdout.splitlines()
+    started = next(k for k, l in enumerate(lines) if l.startswith("[case 2/2] impact_hex: running"))
+    first_done = next(k for k, l in enumerate(lines) if l.startswith("[case 1/2] impact_compound: done"))
+    assert started < first_done, p.stdout
+    for name in ("impact_compound", "impact_hex"):
+        assert json.loads((out / name / "case.json").read_text())["np"] == 1
+    p = driver("run", "impact_square", "--quick", "--np", "2", "--out", str(out))
+    assert p.returncode == 0 and "(quick, 2 ranks)" in p.stdout, p.stdout
+
+
+def test_interrupt_stops_every_case_running_side_by_side(tmp_path):
+    out = tmp_path / "int2"
+    env = dict(os.environ, WIRENET_BUILD=str(lmp.BUILD), WIRENET_SETUP="skip")
+    proc = subprocess.Popen([str(DRIVER), "run", str(_two_impacts(tmp_path)), "--quick", "--np",
+                             "2", "--out", str(out)], cwd=tmp_path, env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    cases = [out / "impact_compound", out / "impact_hex"]
+    try:
+        deadline = time.time() + 300
+        while time.time() < deadline and not all(_liggghts_in(c) for c in cases):
+            assert proc.poll() is None, proc.communicate()
+            time.sleep(0.1)
+        assert all(_liggghts_in(c) for c in cases), "the two cases never ran at once"
+        proc.send_signal(signal.SIGTERM)
+        stdout, stderr = proc.communicate(timeout=60)
+        assert proc.returncode == 143, (proc.returncode, stderr)
+        assert "Traceback" not in stderr
+        deadline = time.time() + 10
+        while any(_liggghts_in(c) for c in cases) and time.time() < deadline:
+            time.sleep(0.2)
+        assert not any(_liggghts_in(c) for c in cases), "LIGGGHTS outlived the study"
+        for c in cases:
+            assert json.loads((c / "case.json").read_text())["status"] == "interrupted", c.name
+    finally:
+        _stop(proc)
+
+
+def test_a_failed_case_stops_the_one_beside_it(tmp_path):
+    """A case that fails (here: its LIGGGHTS binary is not there) stops the study with one line;
+    the case running beside it is stopped and marked interrupted, never left 'running'."""
+    out = tmp_path / "fail"
+    study = _two_impacts(tmp_path)
+    build = tmp_path / "build"
+    (build / "bin").mkdir(parents=True)
+    os.symlink(lmp.BUILD / "bin" / "wirenet-gen", build / "bin" / "wirenet-gen")
+    # the first case's LIGGGHTS runs (a real one); the second's is a script that fails at once
+    real = lmp.BUILD / "bin" / "liggghts"
+    flag = tmp_path / "first-started"
+    (build / "bin" / "liggghts").write_text(
+        "#!/bin/sh\n"
+        f'case "$PWD" in */impact_hex/*) while [ ! -e {flag} ]; do sleep 0.1; done; '
+        'echo "ERROR: made to fail by the test" >&2; exit 1;; esac\n'
+        f"touch {flag}\nexec {real} \"$@\"\n")
+    (build / "bin" / "liggghts").chmod(0o755)
+    p = driver("run", str(study), "--quick", "--np", "2", "--out", str(out),
+               env_extra={"WIRENET_BUILD": str(build)})
+    assert p.returncode != 0
+    assert "made to fail by the test" in p.stderr and "Traceback" not in p.stderr
+    assert json.loads((out / "impact_hex" / "case.json").read_text())["status"] == "failed"
+    assert json.loads((out / "impact_compound" / "case.json").read_text())["status"] == "interrupted"

@@ -61,15 +61,17 @@ SLOW_FACTOR = 4
 # Steps per metre of platter travel (full, quick). The light hexagonal mesh (3.9 g nodes)
 # needs 4e6: at 1e6 the inertia of the spreading deformation, amplified by local damping
 # (1 / (1 - alpha)), kept the platter force 10-30 % above the edge reactions on the 1.2 m
-# panel; at 4e6 they agree within 1 % (doc/punch.md). Quick runs are a first look: they report
-# the evidence but are not expected to pass it.
-STEPS_PER_M = {"square": (6.25e5, 1e6), "hex": (4e6, 1e6), "compound": (4e6, 1e6)}
+# panel; at 4e6 they agree within 1 % (doc/punch.md). The strand-rope square mesh passes with a
+# margin of 30 or more at 3.125e5 (the calibrations' curve difference 0.03 %; doc/punch.md).
+# Quick runs are a first look: they report the evidence but are not expected to pass it.
+STEPS_PER_M = {"square": (3.125e5, 1e6), "hex": (4e6, 1e6), "compound": (4e6, 1e6)}
 QUICK_TRAVEL = {"square": 0.1, "hex": 0.03, "compound": 0.03}
 # Travel of the four-times-slower twin, as a fraction of the production travel. The light
-# panels compare the first quarter (the twin then costs as many steps as the production run):
-# inertia matters most there, where the forces are smallest; the equilibrium and kinetic-energy
-# checks cover every output step of the whole travel.
-SLOW_TRAVEL = {"square": 1.0, "hex": 1.0 / SLOW_FACTOR, "compound": 1.0 / SLOW_FACTOR}
+# panels compare the first quarter (the twin then costs as many steps as the production run),
+# the square mesh the first half (twice as many): inertia matters most early, where the forces
+# are smallest (the largest difference of the calibrations lies at 3-5 cm of their 50 cm); the
+# equilibrium and kinetic-energy checks cover every output step of the whole travel.
+SLOW_TRAVEL = {"square": 0.5, "hex": 1.0 / SLOW_FACTOR, "compound": 1.0 / SLOW_FACTOR}
 TOLERANCE = 0.01     # 1 %: curve agreement, kinetic energy fraction, equilibrium
 # The loading body: "analytic" (fix wirenet/body, exact shape, no facets: the default) or "mesh"
 # (the generator's STL with fix mesh/surface/stress + wall/gran + move/mesh, for shapes with no

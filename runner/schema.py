@@ -172,12 +172,12 @@ KEYS = [
         "the stable step", "doc/punch.md", kind="punch"),
     Key("punch.steps_per_metre", "number", None, "1/m", "time steps per metre of travel (with "
         "mass scaling)", "doc/punch.md (quasi-static evidence)", low=0.0, low_open=True,
-        kind="punch", derived="hex/compound 4e6, square 6.25e5; quick 1e6"),
+        kind="punch", derived="hex/compound 4e6, square 3.125e5; quick 1e6"),
     Key("punch.quasi_static_check", "bool", True, "", "run the same case 4x slower beside it "
         "and compare the force curves (the quasi-static proof)", "doc/punch.md", kind="punch"),
     Key("punch.check_travel", "number", None, "", "fraction of the travel the slower twin runs",
         "doc/punch.md", low=0.0, low_open=True, high=1.0, kind="punch",
-        derived="square 1, hex/compound 0.25"),
+        derived="square 0.5, hex/compound 0.25"),
     Key("punch.body", "choice", "analytic", "", "analytic: exact body (fix wirenet/body); mesh: "
         "the generator's STL (facet traps of doc/punch.md)", "doc/fix_wirenet_body.md",
         choices=("analytic", "mesh"), kind="punch"),

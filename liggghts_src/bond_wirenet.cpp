@@ -243,7 +243,17 @@ void BondWirenet::build_list()
       const int j = domain->closest_image(i, atom->map(bond_atom[i][m]));
       const Entry e = { i, j, type, m, history->record(i, m) };
       if (wires[type]) {
-        wire_list.push_back(e);
+        // a wire record is set at the bond's first run, like a beam's (below)
+        if (e.h[FixWirenetBonds::L0] == 0.0) {
+          const double d[3] = { x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2] };
+          init_record(e, sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+        }
+        if (e.h[FixWirenetBonds::L0] < 0.0) continue;  // broken, awaiting removal
+        WireEntry w;
+        static_cast<Entry &>(w) = e;
+        wires[type]->prepare(e.h, w.k);
+        w.zeta = specs[type].wire.damping;
+        wire_list.push_back(w);
         continue;
       }
       // a beam record is set at the bond's first run (the lists are built in compute()) and
@@ -293,12 +303,12 @@ void BondWirenet::init_record(const Entry &e, double length)
   }
 }
 
-inline void BondWirenet::compute_wire(const Entry &e, double dx, double dy, double dz, double r, int eflag)
+inline void BondWirenet::compute_wire(const WireEntry &e, double dx, double dy, double dz, double r, int eflag)
 {
   double *h = e.h;
   double tension;
   const double umax0 = h[W_UMAX], fmax0 = h[W_FMAX];
-  if (!wires[e.type]->tension(r - h[W_L0], h, tension)) {
+  if (!wires[e.type]->tension(e.k, r - h[W_L0], h, tension)) {
     double **x = atom->x;
     const double mid[3] = { x[e.i][0] + 0.5 * dx, x[e.i][1] + 0.5 * dy, x[e.i][2] + 0.5 * dz };
     // released: the elastic energy of the last state (on the envelope, at the largest elongation)
@@ -312,14 +322,14 @@ inline void BondWirenet::compute_wire(const Entry &e, double dx, double dy, doub
                     0.5 * (h[W_FMAX] * h[W_FMAX] - fmax0 * fmax0) / h[W_KU];
   if (tension == 0.0) return;  // slack or shortened: no force, no damping
   double pull = tension;
-  const double zeta = specs[e.type].wire.damping;
+  const double zeta = e.zeta;
   if (zeta > 0.0) {
     // viscous damping of the taut wire along its axis, c = 2 zeta sqrt(k_u m_eff); the wire
     // never pushes: the damped force is at least zero
     const double *vi = atom->v[e.i], *vj = atom->v[e.j];
     const double vn = ((vj[0] - vi[0]) * dx + (vj[1] - vi[1]) * dy + (vj[2] - vi[2]) * dz) / r;
     const double mi = atom->rmass[e.i], mj = atom->rmass[e.j];
-    const double c = 2.0 * zeta * sqrt(h[W_KU] * mi * mj / (mi + mj));
+    const double c = 2.0 * zeta * sqrt(e.k.ku * mi * mj / (mi + mj));
     pull = tension + c * vn;
     if (pull < 0.0) pull = 0.0;
     damping_work += (pull - tension) * vn;  // power dissipated, >= 0
@@ -461,15 +471,12 @@ void BondWirenet::compute(int eflag, int vflag)
   double **x = atom->x;
   plastic_work = 0.0;
   damping_work = 0.0;
-  for (const Entry &e : wire_list) {
-    const double l0 = e.h[FixWirenetBonds::L0];
-    if (l0 < 0.0) continue;  // broken earlier, awaiting removal
+  for (const WireEntry &e : wire_list) {
+    if (e.h[FixWirenetBonds::L0] < 0.0) continue;  // broken this step, awaiting removal
     const double dx = x[e.j][0] - x[e.i][0];
     const double dy = x[e.j][1] - x[e.i][1];
     const double dz = x[e.j][2] - x[e.i][2];
-    const double r = sqrt(dx * dx + dy * dy + dz * dz);
-    if (l0 == 0.0) init_record(e, r);
-    compute_wire(e, dx, dy, dz, r, eflag);
+    compute_wire(e, dx, dy, dz, sqrt(dx * dx + dy * dy + dz * dz), eflag);
   }
   if (!beam_list.empty()) {
     if (any_strength) {
@@ -511,7 +518,7 @@ void BondWirenet::report_timestep()
 {
   const double *rmass = atom->rmass, *radius = atom->radius;
   double w2_trans = 0.0, w2_rot = 0.0;
-  for (const Entry &e : wire_list) {
+  for (const WireEntry &e : wire_list) {
     if (e.h[FixWirenetBonds::L0] <= 0.0) continue;
     w2_trans = fmax(w2_trans, 2.0 * e.h[W_KU] * (1.0 / rmass[e.i] + 1.0 / rmass[e.j]));
   }
@@ -615,6 +622,6 @@ void BondWirenet::read_restart(FILE *fp)
 
 double BondWirenet::memory_usage()
 {
-  return Bond::memory_usage() + (double)wire_list.capacity() * sizeof(Entry) +
+  return Bond::memory_usage() + (double)wire_list.capacity() * sizeof(WireEntry) +
          (double)beam_list.capacity() * sizeof(BeamPair);
 }

@@ -48,8 +48,10 @@ class BondWirenet : public Bond {
   // copies of their constants, two bonds per entry, one per SIMD lane. An odd count repeats the
   // last bond in lane 1 of the last pair: computed, not applied.
   struct Entry { int i, j, type, m; double *h; };
+  // a wire bond with the constants of its envelope and damping (built with the list)
+  struct WireEntry : Entry { WireNet::WireConst k; double zeta; };
   struct BeamPair { WireNet::BeamConst<WireNet::Lanes> c; int i[2], j[2], m[2]; };
-  std::vector<Entry> wire_list;
+  std::vector<WireEntry> wire_list;
   std::vector<BeamPair> beam_list;
   int nbeam;  // beam bonds in beam_list
   long list_version;
@@ -69,7 +71,7 @@ class BondWirenet : public Bond {
   void set_type(int type, const WireNet::BondTypeSpec &spec);
   void build_list();
   void init_record(const Entry &e, double length);
-  inline void compute_wire(const Entry &e, double dx, double dy, double dz, double r, int eflag);
+  inline void compute_wire(const WireEntry &e, double dx, double dy, double dz, double r, int eflag);
   template <int EVFLAG, bool STRENGTH> void compute_beams(int eflag);
   void break_beam(BeamPair &p, int k);
   void damp_beams();

@@ -130,4 +130,31 @@ void WireLaw::init_bond(double *h, double l0, long tag1, long tag2) const
   h[W_FMAX] = 0.0;
 }
 
+void WireLaw::prepare(const double *h, WireConst &k) const
+{
+  k.u_rupture = h[W_A] * strain_.back() + h[W_B];
+  k.u1 = h[W_A] * strain_[0] + h[W_B];
+  k.k1 = h[W_C] * stress_[0] / k.u1;
+  k.inv_a = 1.0 / h[W_A];
+  k.b = h[W_B];
+  k.c = h[W_C];
+  k.ku = h[W_KU];
+}
+
+bool WireLaw::tension(double u, double *h, double &force) const
+{
+  WireConst k;
+  prepare(h, k);
+  return tension(k, u, h, force);
+}
+
+double WireLaw::tension_const(double u, const double *h) const
+{
+  WireConst k;
+  prepare(h, k);
+  if (u >= h[W_UMAX]) return envelope(k, u);
+  const double f = h[W_FMAX] - k.ku * (h[W_UMAX] - u);
+  return f > 0.0 ? f : 0.0;
+}
+
 }  // namespace WireNet

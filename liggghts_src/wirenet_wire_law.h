@@ -26,6 +26,18 @@ enum WireSlot {
   W_NSLOTS
 };
 
+// The constants of one bond's envelope, derived from its record (which never changes after the
+// bond's first run except for W_UMAX and W_FMAX): the kernel then needs no division, no table
+// below the first point and no look-up of its type's law.
+struct WireConst {
+  double u_rupture;  // elongation at rupture
+  double u1;         // elongation of the first table point
+  double k1;         // force per elongation below it (the first segment)
+  double inv_a;      // 1 / W_A: elongation -> strain
+  double b, c;       // W_B, W_C
+  double ku;         // W_KU
+};
+
 struct WireLawParams {
   double diameter = 0.0;
   double area_factor = 1.0;
@@ -52,16 +64,21 @@ class WireLaw {
   // Fill a bond's record from its initial length and the two atom tags (slack draw).
   void init_bond(double *h, double l0, long tag1, long tag2) const;
 
-  // Tension [N] at elongation u; updates the plastic state. Returns false on rupture.
-  inline bool tension(double u, double *h, double &force) const;
+  // The envelope constants of a bond's record (after init_bond).
+  void prepare(const double *h, WireConst &k) const;
+  // Tension [N] at elongation u; updates the plastic state (W_UMAX, W_FMAX of h). Returns false
+  // on rupture. k: prepare(h).
+  inline bool tension(const WireConst &k, double u, double *h, double &force) const;
+  // The same from the record alone (derives k: for outputs and tests, not for the force loop).
+  bool tension(double u, double *h, double &force) const;
   // Tension without touching the state (output).
-  inline double tension_const(double u, const double *h) const;
+  double tension_const(double u, const double *h) const;
 
   // Slack fraction r in [0,1] (triangular, mode 1/2) drawn from the seed and the two tags.
   static double slack_draw(long seed, long tag1, long tag2);
 
  private:
-  inline double envelope(double u, const double *h) const;
+  inline double envelope(const WireConst &k, double u) const;
 
   WireLawParams p_;
   double area_ = 0.0;
@@ -72,37 +89,28 @@ class WireLaw {
 
 // ----------------------------------------------------------------------------------------------
 
-inline double WireLaw::envelope(double u, const double *h) const
+inline double WireLaw::envelope(const WireConst &k, double u) const
 {
-  const double a = h[W_A], b = h[W_B], c = h[W_C];
-  const double u1 = a * strain_[0] + b;
-  if (u <= u1) return c * stress_[0] * (u / u1);
-  const double e = (u - b) / a;
+  if (u <= k.u1) return k.k1 * u;
+  const double e = (u - k.b) * k.inv_a;
   const int n = (int)strain_.size();
-  int k = 0;
-  while (k < n - 2 && e > strain_[k + 1]) ++k;
-  return c * (stress_[k] + slope_[k] * (e - strain_[k]));
+  int j = 0;
+  while (j < n - 2 && e > strain_[j + 1]) ++j;
+  return k.c * (stress_[j] + slope_[j] * (e - strain_[j]));
 }
 
-inline bool WireLaw::tension(double u, double *h, double &force) const
+inline bool WireLaw::tension(const WireConst &k, double u, double *h, double &force) const
 {
-  if (u > h[W_A] * strain_.back() + h[W_B]) { force = 0.0; return false; }
+  if (u > k.u_rupture) { force = 0.0; return false; }
   if (u >= h[W_UMAX]) {
     h[W_UMAX] = u;
-    h[W_FMAX] = envelope(u, h);
+    h[W_FMAX] = envelope(k, u);
     force = h[W_FMAX];
   } else {
-    const double f = h[W_FMAX] - h[W_KU] * (h[W_UMAX] - u);
+    const double f = h[W_FMAX] - k.ku * (h[W_UMAX] - u);
     force = f > 0.0 ? f : 0.0;
   }
   return true;
-}
-
-inline double WireLaw::tension_const(double u, const double *h) const
-{
-  if (u >= h[W_UMAX]) return envelope(u, h);
-  const double f = h[W_FMAX] - h[W_KU] * (h[W_UMAX] - u);
-  return f > 0.0 ? f : 0.0;
 }
 
 }  // namespace WireNet

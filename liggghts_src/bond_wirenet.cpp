@@ -303,7 +303,7 @@ void BondWirenet::init_record(const Entry &e, double length)
   }
 }
 
-inline void BondWirenet::compute_wire(const WireEntry &e, double dx, double dy, double dz, double r, int eflag)
+__attribute__((always_inline)) inline void BondWirenet::compute_wire(const WireEntry &e, double dx, double dy, double dz, double r, int eflag)
 {
   double *h = e.h;
   double tension;

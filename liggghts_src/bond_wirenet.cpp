@@ -51,7 +51,11 @@ void BondWirenet::settings(int narg, char **)
 void BondWirenet::set_type(int type, const BondTypeSpec &spec)
 {
   specs[type] = spec;
-  wires[type].reset(spec.kind == LawKind::WIRE ? new WireLaw(spec.wire) : nullptr);
+  // a brake is a wire bond with a force-elongation envelope: the same force loop, history,
+  // plastic-work and rupture tallies, damping and output
+  if (spec.kind == LawKind::WIRE) wires[type].reset(new WireLaw(spec.wire));
+  else if (spec.kind == LawKind::BRAKE) wires[type].reset(new WireLaw(BrakeLaw(spec.brake).envelope()));
+  else wires[type].reset();
   beams[type].reset(spec.kind == LawKind::BEAM ? new BeamLaw(spec.beam) : nullptr);
   setflag[type] = 1;
 }
@@ -101,13 +105,16 @@ void BondWirenet::init_style()
   // Ghost atoms must reach across the longest bond at its largest stretch before rupture.
   // Beams: 1.5 covers any stretch a rope survives in practice (a steel rope with `strength`
   // breaks at about 1 % of strain).
-  double stretch = 1.0;
+  // Brakes: their elongations are absolute; the longest bond plus the largest reach of a brake
+  // (rupture elongation, or twice the stroke's end without `break`).
+  double stretch = 1.0, brake_reach = 0.0;
   any_beam = any_strength = any_beam_damping = any_damping = 0;
   for (int t = 1; t <= atom->nbondtypes; t++) {
     if (wires[t]) {
       stretch = fmax(stretch, wires[t]->max_stretch());
-      if (specs[t].wire.damping > 0.0) any_damping = 1;
+      if (wires[t]->params().damping > 0.0) any_damping = 1;
     }
+    if (specs[t].kind == LawKind::BRAKE) brake_reach = fmax(brake_reach, BrakeLaw(specs[t].brake).reach());
     if (beams[t]) {
       stretch = fmax(stretch, 1.5);
       any_beam = 1;
@@ -123,7 +130,7 @@ void BondWirenet::init_style()
   // bonds are never created during a run, so the answer holds until the next init).
   history->use_orientations(any_beam && beam_bonds_present());
   const double lmax = history->max_bond_length_global();
-  history->set_ghost_extent(lmax * stretch);
+  history->set_ghost_extent(fmax(lmax * stretch, lmax + brake_reach));
   if (comm->me == 0) report_types();
 }
 
@@ -204,6 +211,15 @@ void BondWirenet::report_types()
                "bond_style wirenet: type %d wire (%s): d = %g m, A = %g m^2, %zu curve points, rupture strain %g%s%s, damping %g\n",
                t, s.family.c_str(), s.wire.diameter, w.area(), s.wire.strain.size(), s.wire.strain.back(),
                s.wire.derived ? ", derived double twist" : "", slack, s.wire.damping);
+    }
+    if (s.kind == LawKind::BRAKE) {
+      const BrakeLaw b(s.brake);
+      char rupture[64] = "never breaks";
+      if (b.breakable()) snprintf(rupture, sizeof(rupture), "breaks at %g N", *s.brake.breaking);
+      snprintf(line, sizeof(line),
+               "bond_style wirenet: type %d brake (%s): force %g N, stroke %g m, stiffness %g N/m, lock %g N/m, %s, damping %g\n",
+               t, s.family.c_str(), s.brake.force, s.brake.stroke, s.brake.stiffness, b.lock_stiffness(), rupture,
+               s.brake.damping);
     }
     if (s.kind == LawKind::BEAM) {
       const BeamLawParams &b = s.beam;
@@ -307,7 +323,7 @@ inline void BondWirenet::compute_wire(const Entry &e, double dx, double dy, doub
                     0.5 * (h[W_FMAX] * h[W_FMAX] - fmax0 * fmax0) / h[W_KU];
   if (tension == 0.0) return;  // slack or shortened: no force, no damping
   double pull = tension;
-  const double zeta = specs[e.type].wire.damping;
+  const double zeta = wires[e.type]->params().damping;
   if (zeta > 0.0) {
     // viscous damping of the taut wire along its axis, c = 2 zeta sqrt(k_u m_eff); the wire
     // never pushes: the damped force is at least zero

@@ -1,6 +1,7 @@
 /* WireNet: bond_style wirenet, remote bonds between the node spheres of a wire net.
-   Laws per bond type: `wire` (tension-only elasto-plastic) and `beam` (corotational parallel
-   bond). See doc/bond_wirenet.md. */
+   Laws per bond type: `wire` (tension-only elasto-plastic), `beam` (corotational parallel
+   bond) and `brake` (a rope brake: a wire bond with a force-elongation envelope). See
+   doc/bond_wirenet.md. */
 
 #ifdef BOND_CLASS
 
@@ -56,13 +57,13 @@ class BondWirenet : public Bond {
   class FixWirenetBonds *history;
 
   std::vector<WireNet::BondTypeSpec> specs;                 // [type]
-  std::vector<std::unique_ptr<WireNet::WireLaw>> wires;     // [type], null if not a wire
+  std::vector<std::unique_ptr<WireNet::WireLaw>> wires;     // [type], null if not a wire or brake
   std::vector<std::unique_ptr<WireNet::BeamLaw>> beams;     // [type], null if not a beam
   int any_beam;
   int any_strength;      // a beam type with `strength`
   int any_beam_damping;  // a beam type with `damping` > 0
   int any_damping;       // any type with `damping` > 0
-  double plastic_work;  // plastic work of the wire bonds in this compute() (energy budget)
+  double plastic_work;  // plastic work of the wire and brake bonds in this compute() (energy budget)
   double damping_work;  // energy dissipated by bond damping in this compute()
 
   void allocate();

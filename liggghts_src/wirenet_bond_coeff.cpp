@@ -160,13 +160,49 @@ void parse_beam(ArgCursor &c, BondTypeSpec &spec)
   BeamLaw check(b);  // validates the parameters
 }
 
+// `brake force F_ACT stroke S stiffness K [lock K_LOCK] [break F_BREAK] [family NAME]
+// [damping ZETA]`: keyword-value pairs in any order, each at most once.
+void parse_brake(ArgCursor &c, BondTypeSpec &spec)
+{
+  BrakeLawParams &b = spec.brake;
+  std::vector<std::string> seen;
+  while (!c.done()) {
+    const std::string key = c.word("keyword");
+    for (const std::string &s : seen)
+      if (s == key) throw std::invalid_argument("brake " + key + " is given twice");
+    seen.push_back(key);
+    if (key == "force") b.force = c.number("brake force", false);
+    else if (key == "stroke") b.stroke = c.number("brake stroke", false);
+    else if (key == "stiffness") b.stiffness = c.number("brake stiffness", false);
+    else if (key == "lock") b.lock = c.number("brake lock", false);
+    else if (key == "break") b.breaking = c.number("brake break", false);
+    else if (key == "damping") b.damping = c.number("brake damping", false);
+    else if (key == "family") spec.family = c.word("family name");
+    else {
+      double ignored;
+      if (classify(key, ignored) != Word::TEXT)
+        throw std::invalid_argument("unexpected number '" + key + "' in the brake options (a keyword is due)");
+      throw std::invalid_argument("unknown brake keyword '" + key + "'");
+    }
+  }
+  for (const char *required : { "force", "stroke", "stiffness" }) {
+    bool found = false;
+    for (const std::string &s : seen) found = found || s == required;
+    if (!found)
+      throw std::invalid_argument(std::string("missing brake ") + required +
+                                  " (brake force F_ACT stroke S stiffness K are required)");
+  }
+  BrakeLaw check(b);  // validates the parameters
+  WireLaw envelope(check.envelope());
+}
+
 }  // namespace
 
 BondTypeSpec parse_bond_coeff(const std::vector<std::string> &args)
 {
   ArgCursor c(args);
   BondTypeSpec spec;
-  const std::string law = c.word("law (wire or beam)");
+  const std::string law = c.word("law (wire, beam or brake)");
   if (law == "wire") {
     spec.kind = LawKind::WIRE;
     spec.family = "wire";
@@ -175,8 +211,12 @@ BondTypeSpec parse_bond_coeff(const std::vector<std::string> &args)
     spec.kind = LawKind::BEAM;
     spec.family = "beam";
     parse_beam(c, spec);
+  } else if (law == "brake") {
+    spec.kind = LawKind::BRAKE;
+    spec.family = "brake";
+    parse_brake(c, spec);
   } else {
-    throw std::invalid_argument("unknown law '" + law + "' (expected wire or beam)");
+    throw std::invalid_argument("unknown law '" + law + "' (expected wire, beam or brake)");
   }
   return spec;
 }
@@ -196,6 +236,10 @@ std::vector<double> BondTypeSpec::serialize() const
     const BeamLawParams &b = beam;
     v.insert(v.end(), { b.diameter, b.young, b.nu, b.bending, b.twist, (double)b.shear,
                         (double)b.strength, b.sigma_t, b.tau_c, b.damping });
+  } else if (kind == LawKind::BRAKE) {
+    const BrakeLawParams &b = brake;
+    v.insert(v.end(), { b.force, b.stroke, b.stiffness, (double)b.lock.has_value(), b.lock.value_or(0.0),
+                        (double)b.breaking.has_value(), b.breaking.value_or(0.0), b.damping });
   }
   return v;
 }
@@ -226,6 +270,16 @@ BondTypeSpec BondTypeSpec::deserialize(const std::vector<double> &v, const std::
       b.strength = v.at(k++) != 0.0;
       b.sigma_t = v.at(k++); b.tau_c = v.at(k++); b.damping = v.at(k++);
     }
+  } else if (s.kind == LawKind::BRAKE) {
+    BrakeLawParams &b = s.brake;
+    b.force = v.at(k++); b.stroke = v.at(k++); b.stiffness = v.at(k++);
+    if (v.at(k++) != 0.0) b.lock = v.at(k);
+    ++k;
+    if (v.at(k++) != 0.0) b.breaking = v.at(k);
+    ++k;
+    b.damping = v.at(k++);
+  } else if (s.kind != LawKind::NONE) {
+    throw std::invalid_argument("unknown law in the restart file");
   }
   return s;
 }

@@ -24,7 +24,7 @@ using namespace WireNet;
 static const char HISTORY_FIX_ID[] = "wirenet_bonds";
 
 BondWirenet::BondWirenet(LAMMPS *lmp) :
-  Bond(lmp), nbeam(0), list_version(-1), history(NULL), any_beam(0), any_strength(0),
+  Bond(lmp), nbeam(0), ncircular(0), list_version(-1), history(NULL), any_beam(0), any_strength(0),
   any_beam_damping(0), any_damping(0), plastic_work(0.0), damping_work(0.0), duplicates_checked(false) {}
 
 BondWirenet::~BondWirenet()
@@ -225,9 +225,15 @@ void BondWirenet::report_types()
       const BeamLawParams &b = s.beam;
       char strength[96] = "no strength";
       if (b.strength) snprintf(strength, sizeof(strength), "strength %g Pa (tension) %g Pa (shear)", b.sigma_t, b.tau_c);
+      char shape[192];
+      if (b.section)
+        snprintf(shape, sizeof(shape), "section A = %g m^2, Iy = %g m^4, Iz = %g m^4, J = %g m^4, orient (%g, %g, %g)",
+                 b.area, b.iy, b.iz, b.torsion, b.orient[0], b.orient[1], b.orient[2]);
+      else
+        snprintf(shape, sizeof(shape), "d = %g m", b.diameter);
       snprintf(line, sizeof(line),
-               "bond_style wirenet: type %d beam (%s): d = %g m, E = %g Pa, nu = %g, bending %g EI, twist %g GJ, shear %s, %s, damping %g\n",
-               t, s.family.c_str(), b.diameter, b.young, b.nu, b.bending, b.twist < 0 ? b.bending : b.twist,
+               "bond_style wirenet: type %d beam (%s): %s, E = %g Pa, nu = %g, bending %g EI, twist %g GJ, shear %s, %s, damping %g\n",
+               t, s.family.c_str(), shape, b.young, b.nu, b.bending, b.twist < 0 ? b.bending : b.twist,
                b.shear == ShearModel::EULER_BERNOULLI ? "eb (12 f EI/L0^3)" : "pb (GA/L0)", strength, b.damping);
     }
     if (screen) fputs(line, screen);
@@ -241,6 +247,10 @@ void BondWirenet::build_list()
 {
   wire_list.clear();
   beam_list.clear();
+  section_list.clear();
+  // beams of a general section, paired after the circular ones
+  struct Pending { BeamConst<double> b; BeamSection<double> s; int i, j, m; };
+  std::vector<Pending> sections;
   const int nlocal = atom->nlocal;
   const int *num_bond = atom->num_bond;
   int **bond_atom = atom->bond_atom;
@@ -266,6 +276,11 @@ void BondWirenet::build_list()
       if (e.h[FixWirenetBonds::L0] < 0.0) continue;  // broken, awaiting removal
       BeamConst<double> b;
       beams[type]->prepare(e.h, b);
+      if (beams[type]->has_section()) {  // no damping, no strength (refused by the law)
+        sections.push_back({ b, BeamSection<double>(), i, j, m });
+        beams[type]->prepare_section(e.h, sections.back().s);
+        continue;
+      }
       if (beams[type]->damped()) {
         const double *rm = atom->rmass, *rad = atom->radius;
         beams[type]->set_damping(b.l0, rm[i], rm[j], 0.4 * rm[i] * rad[i] * rad[i], 0.4 * rm[j] * rad[j] * rad[j], b);
@@ -277,15 +292,41 @@ void BondWirenet::build_list()
       p.i[k] = i;
       p.j[k] = j;
       p.m[k] = m;
+      p.n = k + 1;
     }
-  if (nbeam % 2) {
+  pad_last_pair(nullptr);
+  ncircular = (int)beam_list.size();
+  for (size_t q = 0; q < sections.size(); q++) {
+    const Pending &s = sections[q];
+    const int k = q % 2;
+    if (k == 0) {
+      beam_list.emplace_back();
+      section_list.emplace_back();
+    }
     BeamPair &p = beam_list.back();
-    set_lane(p.c, 1, lane(p.c, 0));
-    p.i[1] = p.i[0];
-    p.j[1] = p.j[0];
-    p.m[1] = p.m[0];
+    set_lane(p.c, k, s.b);
+    set_lane(section_list.back(), k, s.s);
+    p.i[k] = s.i;
+    p.j[k] = s.j;
+    p.m[k] = s.m;
+    p.n = k + 1;
   }
+  nbeam += (int)sections.size();
+  if (!sections.empty()) pad_last_pair(&section_list.back());
   list_version = history->list_version();
+}
+
+// A pair with one bond repeats it in lane 1: computed, not applied (n = 1). s: the pair's
+// section constants, if it is a pair of general sections.
+void BondWirenet::pad_last_pair(BeamSection<Lanes> *s)
+{
+  if (beam_list.empty() || beam_list.back().n != 1) return;
+  BeamPair &p = beam_list.back();
+  set_lane(p.c, 1, lane(p.c, 0));
+  p.i[1] = p.i[0];
+  p.j[1] = p.j[0];
+  p.m[1] = p.m[0];
+  if (s) set_lane(*s, 1, lane(*s, 0));
 }
 
 void BondWirenet::init_record(const Entry &e, double length)
@@ -299,8 +340,15 @@ void BondWirenet::init_record(const Entry &e, double length)
   if (wires[e.type]) {
     wires[e.type]->init_bond(e.h, length, atom->tag[e.i], atom->tag[e.j]);
   } else {
-    beams[e.type]->init_bond(e.h, Eigen::Vector3d(atom->x[e.i]), Eigen::Vector3d(atom->x[e.j]),
-                             BeamLaw::Rotation(history->rotation(e.i)), BeamLaw::Rotation(history->rotation(e.j)));
+    try {
+      beams[e.type]->init_bond(e.h, Eigen::Vector3d(atom->x[e.i]), Eigen::Vector3d(atom->x[e.j]),
+                               BeamLaw::Rotation(history->rotation(e.i)), BeamLaw::Rotation(history->rotation(e.j)));
+    } catch (const std::invalid_argument &err) {
+      char msg[512];
+      snprintf(msg, sizeof(msg), "bond_style wirenet: bond %d-%d (type %d): %s", atom->tag[e.i], atom->tag[e.j], e.type,
+               err.what());
+      error->one(FLERR, msg);
+    }
   }
 }
 
@@ -401,23 +449,24 @@ void BondWirenet::break_beam(BeamPair &p, int k)
   b.ca = b.cs = b.cb = b.ct = 0.0;
   set_lane(p.c, k, b);
   // the copy in lane 1 of an odd last pair is not applied; keep it identical all the same
-  if (&p == &beam_list.back() && nbeam % 2 && k == 0) set_lane(p.c, 1, b);
+  if (p.n == 1 && k == 0) set_lane(p.c, 1, b);
 }
 
-// The beam bonds, a pair per step of the loop, on flat views of the per-atom arrays (LAMMPS' 2d
-// arrays are one block each). Bonds bent beyond the series, and all bonds when energy or virial
-// are tallied, go one at a time. STRENGTH: check each bond's failure index (a type has
-// `strength`); a bond that fails exerts nothing from this step on.
-template <int EVFLAG, bool STRENGTH>
-void BondWirenet::compute_beams(int eflag)
+// The beam bonds of pairs q0..q1-1, a pair per step of the loop, on flat views of the per-atom
+// arrays (LAMMPS' 2d arrays are one block each). Bonds bent beyond the series, and all bonds when
+// energy or virial are tallied, go one at a time. STRENGTH: check each bond's failure index (a
+// type has `strength`); a bond that fails exerts nothing from this step on. SECTION: the pairs
+// of general sections (after the circular ones; never with strength).
+template <int EVFLAG, bool STRENGTH, bool SECTION>
+void BondWirenet::compute_beams(int eflag, int q0, int q1)
 {
+  static_assert(!(STRENGTH && SECTION), "a general section has no strength");
   const double *x = atom->x[0], *rot = history->rotations();
   double *f = atom->f[0], *t = atom->torque[0];
   const int nlocal = atom->nlocal, newton_bond = force->newton_bond;
-  const int npair = beam_list.size();
-  for (int q = 0; q < npair; q++) {
+  for (int q = q0; q < q1; q++) {
     BeamPair &p = beam_list[q];
-    const int nb = q < npair - 1 ? 2 : nbeam - 2 * q;  // bonds to apply: the last lane may be a copy
+    const int nb = p.n;  // bonds to apply: lane 1 of a pair with one bond is a copy
     if constexpr (!EVFLAG) {
       const double *xi0 = x + 3 * p.i[0], *xi1 = x + 3 * p.i[1];
       const double *xj0 = x + 3 * p.j[0], *xj1 = x + 3 * p.j[1];
@@ -433,7 +482,10 @@ void BondWirenet::compute_beams(int eflag)
         n.rj[c] = Lanes{ rj0[c], rj1[c] };
       }
       BeamLoad<Lanes> out;
-      if (BeamLaw::load<false, STRENGTH>(p.c, n, out)) {
+      bool done;
+      if constexpr (SECTION) done = BeamLaw::load_section<false>(p.c, section_list[q - ncircular], n, out);
+      else done = BeamLaw::load<false, STRENGTH>(p.c, n, out);
+      if (done) {
         for (int k = 0; k < nb; k++) {
           if (STRENGTH && out.fail[k] >= 1.0) break_beam(p, k);
           else apply(out, k, p.i[k], p.j[k], f, t);
@@ -446,7 +498,8 @@ void BondWirenet::compute_beams(int eflag)
       BeamNodes<double> n;
       gather_nodes(x, rot, i, j, n);
       BeamResult out;
-      BeamLaw::load<EVFLAG != 0, STRENGTH>(lane(p.c, k), n, out);
+      if constexpr (SECTION) BeamLaw::load_section<EVFLAG != 0>(lane(p.c, k), lane(section_list[q - ncircular], k), n, out);
+      else BeamLaw::load<EVFLAG != 0, STRENGTH>(lane(p.c, k), n, out);
       if (STRENGTH && out.fail >= 1.0) {
         break_beam(p, k);
         continue;
@@ -483,12 +536,17 @@ void BondWirenet::compute(int eflag, int vflag)
     compute_wire(e, dx, dy, dz, r, eflag);
   }
   if (!beam_list.empty()) {
+    const int npair = (int)beam_list.size();
     if (any_strength) {
-      if (evflag) compute_beams<1, true>(eflag);
-      else compute_beams<0, true>(eflag);
+      if (evflag) compute_beams<1, true, false>(eflag, 0, ncircular);
+      else compute_beams<0, true, false>(eflag, 0, ncircular);
     } else {
-      if (evflag) compute_beams<1, false>(eflag);
-      else compute_beams<0, false>(eflag);
+      if (evflag) compute_beams<1, false, false>(eflag, 0, ncircular);
+      else compute_beams<0, false, false>(eflag, 0, ncircular);
+    }
+    if (ncircular < npair) {
+      if (evflag) compute_beams<1, false, true>(eflag, ncircular, npair);
+      else compute_beams<0, false, true>(eflag, ncircular, npair);
     }
     if (any_beam_damping) damp_beams();
   }
@@ -506,7 +564,7 @@ void BondWirenet::damp_beams()
   double *f = atom->f[0], *t = atom->torque[0];
   for (int q = 0; q < (int)beam_list.size(); q++) {
     const BeamPair &p = beam_list[q];
-    for (int k = 0; k < 2 && 2 * q + k < nbeam; k++) {
+    for (int k = 0; k < p.n; k++) {
       const double ca = p.c.ca[k], cs = p.c.cs[k], cb = p.c.cb[k], ct = p.c.ct[k];
       if (ca == 0.0 && cs == 0.0 && cb == 0.0 && ct == 0.0) continue;  // undamped type or broken
       const int i = p.i[k], j = p.j[k];
@@ -527,9 +585,16 @@ void BondWirenet::report_timestep()
     w2_trans = fmax(w2_trans, 2.0 * e.h[W_KU] * (1.0 / rmass[e.i] + 1.0 / rmass[e.j]));
   }
   for (int q = 0; q < (int)beam_list.size(); q++)
-    for (int k = 0; k < 2 && 2 * q + k < nbeam; k++) {
+    for (int k = 0; k < beam_list[q].n; k++) {
       const BeamPair &p = beam_list[q];
-      const BeamConst<double> b = lane(p.c, k);
+      BeamConst<double> b = lane(p.c, k);
+      if (q >= ncircular) {
+        // a general section: the stiffer axis (mean + |half difference|)
+        const BeamSection<double> s = lane(section_list[q - ncircular], k);
+        b.kp += fabs(s.kpd);
+        b.km = fabs(b.km) + fabs(s.kmd);
+        b.kf += fabs(s.kfd);
+      }
       const int i = p.i[k], j = p.j[k];
       // axial or shear (4 Cs / l0^2) translation; rotation: the larger eigenvalue of the end
       // moments, Kb + Cs + |Cs - Kb|, plus twist
@@ -627,5 +692,6 @@ void BondWirenet::read_restart(FILE *fp)
 double BondWirenet::memory_usage()
 {
   return Bond::memory_usage() + (double)wire_list.capacity() * sizeof(Entry) +
-         (double)beam_list.capacity() * sizeof(BeamPair);
+         (double)beam_list.capacity() * sizeof(BeamPair) +
+         (double)section_list.capacity() * sizeof(WireNet::BeamSection<WireNet::Lanes>);
 }

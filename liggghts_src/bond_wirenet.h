@@ -46,13 +46,17 @@ class BondWirenet : public Bond {
  private:
   // The intact local bonds, rebuilt whenever atoms or bond slots change: wire bonds as entries
   // into the history, beam bonds (records set at their first run, constant afterwards) as
-  // copies of their constants, two bonds per entry, one per SIMD lane. An odd count repeats the
-  // last bond in lane 1 of the last pair: computed, not applied.
+  // copies of their constants, two bonds per entry, one per SIMD lane: first the circular
+  // sections (ncircular pairs), then the general sections, whose anisotropic constants are in
+  // section_list (same order). A pair with one bond (n = 1, the last of each group) repeats it
+  // in lane 1: computed, not applied.
   struct Entry { int i, j, type, m; double *h; };
-  struct BeamPair { WireNet::BeamConst<WireNet::Lanes> c; int i[2], j[2], m[2]; };
+  struct BeamPair { WireNet::BeamConst<WireNet::Lanes> c; int i[2], j[2], m[2]; int n; };
   std::vector<Entry> wire_list;
   std::vector<BeamPair> beam_list;
-  int nbeam;  // beam bonds in beam_list
+  std::vector<WireNet::BeamSection<WireNet::Lanes>> section_list;  // [pair - ncircular]
+  int nbeam;      // beam bonds in beam_list
+  int ncircular;  // pairs of circular beams, at the front of beam_list
   long list_version;
   class FixWirenetBonds *history;
 
@@ -71,7 +75,8 @@ class BondWirenet : public Bond {
   void build_list();
   void init_record(const Entry &e, double length);
   inline void compute_wire(const Entry &e, double dx, double dy, double dz, double r, int eflag);
-  template <int EVFLAG, bool STRENGTH> void compute_beams(int eflag);
+  template <int EVFLAG, bool STRENGTH, bool SECTION> void compute_beams(int eflag, int q0, int q1);
+  void pad_last_pair(WireNet::BeamSection<WireNet::Lanes> *s);
   void break_beam(BeamPair &p, int k);
   void damp_beams();
   void report_timestep();

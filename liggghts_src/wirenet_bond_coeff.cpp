@@ -130,7 +130,24 @@ void parse_wire(ArgCursor &c, BondTypeSpec &spec)
 void parse_beam(ArgCursor &c, BondTypeSpec &spec)
 {
   BeamLawParams &b = spec.beam;
-  b.diameter = c.keyed("diameter", "beam", false);
+  const std::string shape = c.word("beam 'diameter' or 'section'");
+  if (shape == "diameter") {
+    b.diameter = c.number("beam diameter", false);
+  } else if (shape == "section") {
+    // section A IY IZ J orient X Y Z
+    b.section = true;
+    b.area = c.number("beam section A", false);
+    b.iy = c.number("beam section IY", false);
+    b.iz = c.number("beam section IZ", false);
+    b.torsion = c.number("beam section J", false);
+    const std::string o = c.word("beam 'orient' (after section A IY IZ J)");
+    if (o != "orient") throw std::invalid_argument("beam section: expected 'orient' after A IY IZ J, got '" + o + "'");
+    b.orient[0] = c.number("beam orient X", false);
+    b.orient[1] = c.number("beam orient Y", false);
+    b.orient[2] = c.number("beam orient Z", false);
+  } else {
+    throw std::invalid_argument("beam: expected 'diameter' or 'section', got '" + shape + "'");
+  }
   b.young = c.keyed("E", "beam", false);
   b.nu = c.keyed("nu", "beam", false);
   while (!c.done()) {
@@ -236,6 +253,8 @@ std::vector<double> BondTypeSpec::serialize() const
     const BeamLawParams &b = beam;
     v.insert(v.end(), { b.diameter, b.young, b.nu, b.bending, b.twist, (double)b.shear,
                         (double)b.strength, b.sigma_t, b.tau_c, b.damping });
+    if (b.section)  // only then: a circular type's record is the one of files before sections
+      v.insert(v.end(), { 1.0, b.area, b.iy, b.iz, b.torsion, b.orient[0], b.orient[1], b.orient[2] });
   } else if (kind == LawKind::BRAKE) {
     const BrakeLawParams &b = brake;
     v.insert(v.end(), { b.force, b.stroke, b.stiffness, (double)b.lock.has_value(), b.lock.value_or(0.0),
@@ -269,6 +288,11 @@ BondTypeSpec BondTypeSpec::deserialize(const std::vector<double> &v, const std::
     if (k < v.size()) {  // absent from restart files before strength and damping
       b.strength = v.at(k++) != 0.0;
       b.sigma_t = v.at(k++); b.tau_c = v.at(k++); b.damping = v.at(k++);
+    }
+    if (k < v.size()) {  // a general section
+      b.section = v.at(k++) != 0.0;
+      b.area = v.at(k++); b.iy = v.at(k++); b.iz = v.at(k++); b.torsion = v.at(k++);
+      for (int c = 0; c < 3; c++) b.orient[c] = v.at(k++);
     }
   } else if (s.kind == LawKind::BRAKE) {
     BrakeLawParams &b = s.brake;

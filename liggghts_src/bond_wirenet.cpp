@@ -105,16 +105,17 @@ void BondWirenet::init_style()
   // Ghost atoms must reach across the longest bond at its largest stretch before rupture.
   // Beams: 1.5 covers any stretch a rope survives in practice (a steel rope with `strength`
   // breaks at about 1 % of strain).
-  // Brakes: their elongations are absolute; the longest bond plus the largest reach of a brake
-  // (rupture elongation, or twice the stroke's end without `break`).
-  double stretch = 1.0, brake_reach = 0.0;
+  // Brakes: their elongations are absolute; the longest bond plus the largest reach of the brake
+  // bonds present (rupture elongation, or twice the stroke's end without `break`).
+  double stretch = 1.0;
+  bool any_brake = false;
   any_beam = any_strength = any_beam_damping = any_damping = 0;
   for (int t = 1; t <= atom->nbondtypes; t++) {
     if (wires[t]) {
       stretch = fmax(stretch, wires[t]->max_stretch());
       if (wires[t]->params().damping > 0.0) any_damping = 1;
     }
-    if (specs[t].kind == LawKind::BRAKE) brake_reach = fmax(brake_reach, BrakeLaw(specs[t].brake).reach());
+    if (specs[t].kind == LawKind::BRAKE) any_brake = true;
     if (beams[t]) {
       stretch = fmax(stretch, 1.5);
       any_beam = 1;
@@ -130,6 +131,7 @@ void BondWirenet::init_style()
   // bonds are never created during a run, so the answer holds until the next init).
   history->use_orientations(any_beam && beam_bonds_present());
   const double lmax = history->max_bond_length_global();
+  const double brake_reach = any_brake ? brake_reach_present() : 0.0;
   history->set_ghost_extent(fmax(lmax * stretch, lmax + brake_reach));
   if (comm->me == 0) report_types();
 }
@@ -166,6 +168,24 @@ void BondWirenet::check_duplicate_bonds()
                "(it would act twice); remove one of the two lines", keys[k] >> 32, keys[k] & 0xffffffffLL);
       error->all(FLERR, msg);
     }
+}
+
+// The largest reach of a brake bond on any rank (collective; 0 without brake bonds): a deck
+// that declares a brake type for bonds it does not hold keeps its ghost cutoff.
+double BondWirenet::brake_reach_present() const
+{
+  std::vector<double> reach(atom->nbondtypes + 1, -1.0);
+  double mine = 0.0;
+  for (int i = 0; i < atom->nlocal; i++)
+    for (int m = 0; m < atom->num_bond[i]; m++) {
+      const int t = atom->bond_type[i][m];
+      if (t <= 0 || specs[t].kind != LawKind::BRAKE) continue;
+      if (reach[t] < 0.0) reach[t] = BrakeLaw(specs[t].brake).reach();
+      mine = fmax(mine, reach[t]);
+    }
+  double all = 0.0;
+  MPI_Allreduce(&mine, &all, 1, MPI_DOUBLE, MPI_MAX, world);
+  return all;
 }
 
 bool BondWirenet::beam_bonds_present() const

@@ -24,7 +24,7 @@ using namespace WireNet;
 static const char HISTORY_FIX_ID[] = "wirenet_bonds";
 
 BondWirenet::BondWirenet(LAMMPS *lmp) :
-  Bond(lmp), nbeam(0), list_version(-1), history(NULL), any_beam(0), any_strength(0),
+  Bond(lmp), nbeam(0), ncircular(0), list_version(-1), history(NULL), any_beam(0), any_strength(0),
   any_beam_damping(0), any_damping(0), plastic_work(0.0), damping_work(0.0), duplicates_checked(false) {}
 
 BondWirenet::~BondWirenet()
@@ -51,7 +51,11 @@ void BondWirenet::settings(int narg, char **)
 void BondWirenet::set_type(int type, const BondTypeSpec &spec)
 {
   specs[type] = spec;
-  wires[type].reset(spec.kind == LawKind::WIRE ? new WireLaw(spec.wire) : nullptr);
+  // a brake is a wire bond with a force-elongation envelope: the same force loop, history,
+  // plastic-work and rupture tallies, damping and output
+  if (spec.kind == LawKind::WIRE) wires[type].reset(new WireLaw(spec.wire));
+  else if (spec.kind == LawKind::BRAKE) wires[type].reset(new WireLaw(BrakeLaw(spec.brake).envelope()));
+  else wires[type].reset();
   beams[type].reset(spec.kind == LawKind::BEAM ? new BeamLaw(spec.beam) : nullptr);
   setflag[type] = 1;
 }
@@ -101,13 +105,17 @@ void BondWirenet::init_style()
   // Ghost atoms must reach across the longest bond at its largest stretch before rupture.
   // Beams: 1.5 covers any stretch a rope survives in practice (a steel rope with `strength`
   // breaks at about 1 % of strain).
+  // Brakes: their elongations are absolute; the longest bond plus the largest reach of the brake
+  // bonds present (rupture elongation, or twice the stroke's end without `break`).
   double stretch = 1.0;
+  bool any_brake = false;
   any_beam = any_strength = any_beam_damping = any_damping = 0;
   for (int t = 1; t <= atom->nbondtypes; t++) {
     if (wires[t]) {
       stretch = fmax(stretch, wires[t]->max_stretch());
-      if (specs[t].wire.damping > 0.0) any_damping = 1;
+      if (wires[t]->params().damping > 0.0) any_damping = 1;
     }
+    if (specs[t].kind == LawKind::BRAKE) any_brake = true;
     if (beams[t]) {
       stretch = fmax(stretch, 1.5);
       any_beam = 1;
@@ -128,7 +136,8 @@ void BondWirenet::init_style()
   }
   history->use_orientations(beam_types);
   const double lmax = history->max_bond_length_global();
-  history->set_ghost_extent(lmax * stretch);
+  const double brake_reach = any_brake ? brake_reach_present() : 0.0;
+  history->set_ghost_extent(fmax(lmax * stretch, lmax + brake_reach));
   if (comm->me == 0) report_types();
 }
 
@@ -164,6 +173,24 @@ void BondWirenet::check_duplicate_bonds()
                "(it would act twice); remove one of the two lines", keys[k] >> 32, keys[k] & 0xffffffffLL);
       error->all(FLERR, msg);
     }
+}
+
+// The largest reach of a brake bond on any rank (collective; 0 without brake bonds): a deck
+// that declares a brake type for bonds it does not hold keeps its ghost cutoff.
+double BondWirenet::brake_reach_present() const
+{
+  std::vector<double> reach(atom->nbondtypes + 1, -1.0);
+  double mine = 0.0;
+  for (int i = 0; i < atom->nlocal; i++)
+    for (int m = 0; m < atom->num_bond[i]; m++) {
+      const int t = atom->bond_type[i][m];
+      if (t <= 0 || specs[t].kind != LawKind::BRAKE) continue;
+      if (reach[t] < 0.0) reach[t] = BrakeLaw(specs[t].brake).reach();
+      mine = fmax(mine, reach[t]);
+    }
+  double all = 0.0;
+  MPI_Allreduce(&mine, &all, 1, MPI_DOUBLE, MPI_MAX, world);
+  return all;
 }
 
 bool BondWirenet::beam_bonds_present() const
@@ -210,13 +237,28 @@ void BondWirenet::report_types()
                t, s.family.c_str(), s.wire.diameter, w.area(), s.wire.strain.size(), s.wire.strain.back(),
                s.wire.derived ? ", derived double twist" : "", slack, s.wire.damping);
     }
+    if (s.kind == LawKind::BRAKE) {
+      const BrakeLaw b(s.brake);
+      char rupture[64] = "never breaks";
+      if (b.breakable()) snprintf(rupture, sizeof(rupture), "breaks at %g N", *s.brake.breaking);
+      snprintf(line, sizeof(line),
+               "bond_style wirenet: type %d brake (%s): force %g N, stroke %g m, stiffness %g N/m, lock %g N/m, %s, damping %g\n",
+               t, s.family.c_str(), s.brake.force, s.brake.stroke, s.brake.stiffness, b.lock_stiffness(), rupture,
+               s.brake.damping);
+    }
     if (s.kind == LawKind::BEAM) {
       const BeamLawParams &b = s.beam;
       char strength[96] = "no strength";
       if (b.strength) snprintf(strength, sizeof(strength), "strength %g Pa (tension) %g Pa (shear)", b.sigma_t, b.tau_c);
+      char shape[192];
+      if (b.section)
+        snprintf(shape, sizeof(shape), "section A = %g m^2, Iy = %g m^4, Iz = %g m^4, J = %g m^4, orient (%g, %g, %g)",
+                 b.area, b.iy, b.iz, b.torsion, b.orient[0], b.orient[1], b.orient[2]);
+      else
+        snprintf(shape, sizeof(shape), "d = %g m", b.diameter);
       snprintf(line, sizeof(line),
-               "bond_style wirenet: type %d beam (%s): d = %g m, E = %g Pa, nu = %g, bending %g EI, twist %g GJ, shear %s, %s, damping %g\n",
-               t, s.family.c_str(), b.diameter, b.young, b.nu, b.bending, b.twist < 0 ? b.bending : b.twist,
+               "bond_style wirenet: type %d beam (%s): %s, E = %g Pa, nu = %g, bending %g EI, twist %g GJ, shear %s, %s, damping %g\n",
+               t, s.family.c_str(), shape, b.young, b.nu, b.bending, b.twist < 0 ? b.bending : b.twist,
                b.shear == ShearModel::EULER_BERNOULLI ? "eb (12 f EI/L0^3)" : "pb (GA/L0)", strength, b.damping);
     }
     if (screen) fputs(line, screen);
@@ -230,6 +272,10 @@ void BondWirenet::build_list()
 {
   wire_list.clear();
   beam_list.clear();
+  section_list.clear();
+  // beams of a general section, paired after the circular ones
+  struct Pending { BeamConst<double> b; BeamSection<double> s; int i, j, m; };
+  std::vector<Pending> sections;
   const int nlocal = atom->nlocal;
   const int *num_bond = atom->num_bond;
   int **bond_atom = atom->bond_atom;
@@ -252,7 +298,7 @@ void BondWirenet::build_list()
         WireEntry w;
         static_cast<Entry &>(w) = e;
         wires[type]->prepare(e.h, w.k);
-        w.zeta = specs[type].wire.damping;
+        w.zeta = wires[type]->params().damping;  // a brake's too
         wire_list.push_back(w);
         continue;
       }
@@ -265,6 +311,11 @@ void BondWirenet::build_list()
       if (e.h[FixWirenetBonds::L0] < 0.0) continue;  // broken, awaiting removal
       BeamConst<double> b;
       beams[type]->prepare(e.h, b);
+      if (beams[type]->has_section()) {  // no damping, no strength (refused by the law)
+        sections.push_back({ b, BeamSection<double>(), i, j, m });
+        beams[type]->prepare_section(e.h, sections.back().s);
+        continue;
+      }
       if (beams[type]->damped()) {
         const double *rm = atom->rmass, *rad = atom->radius;
         beams[type]->set_damping(b.l0, rm[i], rm[j], 0.4 * rm[i] * rad[i] * rad[i], 0.4 * rm[j] * rad[j] * rad[j], b);
@@ -276,15 +327,41 @@ void BondWirenet::build_list()
       p.i[k] = i;
       p.j[k] = j;
       p.m[k] = m;
+      p.n = k + 1;
     }
-  if (nbeam % 2) {
+  pad_last_pair(nullptr);
+  ncircular = (int)beam_list.size();
+  for (size_t q = 0; q < sections.size(); q++) {
+    const Pending &s = sections[q];
+    const int k = q % 2;
+    if (k == 0) {
+      beam_list.emplace_back();
+      section_list.emplace_back();
+    }
     BeamPair &p = beam_list.back();
-    set_lane(p.c, 1, lane(p.c, 0));
-    p.i[1] = p.i[0];
-    p.j[1] = p.j[0];
-    p.m[1] = p.m[0];
+    set_lane(p.c, k, s.b);
+    set_lane(section_list.back(), k, s.s);
+    p.i[k] = s.i;
+    p.j[k] = s.j;
+    p.m[k] = s.m;
+    p.n = k + 1;
   }
+  nbeam += (int)sections.size();
+  if (!sections.empty()) pad_last_pair(&section_list.back());
   list_version = history->list_version();
+}
+
+// A pair with one bond repeats it in lane 1: computed, not applied (n = 1). s: the pair's
+// section constants, if it is a pair of general sections.
+void BondWirenet::pad_last_pair(BeamSection<Lanes> *s)
+{
+  if (beam_list.empty() || beam_list.back().n != 1) return;
+  BeamPair &p = beam_list.back();
+  set_lane(p.c, 1, lane(p.c, 0));
+  p.i[1] = p.i[0];
+  p.j[1] = p.j[0];
+  p.m[1] = p.m[0];
+  if (s) set_lane(*s, 1, lane(*s, 0));
 }
 
 void BondWirenet::init_record(const Entry &e, double length)
@@ -298,8 +375,15 @@ void BondWirenet::init_record(const Entry &e, double length)
   if (wires[e.type]) {
     wires[e.type]->init_bond(e.h, length, atom->tag[e.i], atom->tag[e.j]);
   } else {
-    beams[e.type]->init_bond(e.h, Eigen::Vector3d(atom->x[e.i]), Eigen::Vector3d(atom->x[e.j]),
-                             BeamLaw::Rotation(history->rotation(e.i)), BeamLaw::Rotation(history->rotation(e.j)));
+    try {
+      beams[e.type]->init_bond(e.h, Eigen::Vector3d(atom->x[e.i]), Eigen::Vector3d(atom->x[e.j]),
+                               BeamLaw::Rotation(history->rotation(e.i)), BeamLaw::Rotation(history->rotation(e.j)));
+    } catch (const std::invalid_argument &err) {
+      char msg[512];
+      snprintf(msg, sizeof(msg), "bond_style wirenet: bond %d-%d (type %d): %s", atom->tag[e.i], atom->tag[e.j], e.type,
+               err.what());
+      error->one(FLERR, msg);
+    }
   }
 }
 
@@ -400,23 +484,24 @@ void BondWirenet::break_beam(BeamPair &p, int k)
   b.ca = b.cs = b.cb = b.ct = 0.0;
   set_lane(p.c, k, b);
   // the copy in lane 1 of an odd last pair is not applied; keep it identical all the same
-  if (&p == &beam_list.back() && nbeam % 2 && k == 0) set_lane(p.c, 1, b);
+  if (p.n == 1 && k == 0) set_lane(p.c, 1, b);
 }
 
-// The beam bonds, a pair per step of the loop, on flat views of the per-atom arrays (LAMMPS' 2d
-// arrays are one block each). Bonds bent beyond the series, and all bonds when energy or virial
-// are tallied, go one at a time. STRENGTH: check each bond's failure index (a type has
-// `strength`); a bond that fails exerts nothing from this step on.
-template <int EVFLAG, bool STRENGTH>
-void BondWirenet::compute_beams(int eflag)
+// The beam bonds of pairs q0..q1-1, a pair per step of the loop, on flat views of the per-atom
+// arrays (LAMMPS' 2d arrays are one block each). Bonds bent beyond the series, and all bonds when
+// energy or virial are tallied, go one at a time. STRENGTH: check each bond's failure index (a
+// type has `strength`); a bond that fails exerts nothing from this step on. SECTION: the pairs
+// of general sections (after the circular ones; never with strength).
+template <int EVFLAG, bool STRENGTH, bool SECTION>
+void BondWirenet::compute_beams(int eflag, int q0, int q1)
 {
+  static_assert(!(STRENGTH && SECTION), "a general section has no strength");
   const double *x = atom->x[0], *rot = history->rotations();
   double *f = atom->f[0], *t = atom->torque[0];
   const int nlocal = atom->nlocal, newton_bond = force->newton_bond;
-  const int npair = beam_list.size();
-  for (int q = 0; q < npair; q++) {
+  for (int q = q0; q < q1; q++) {
     BeamPair &p = beam_list[q];
-    const int nb = q < npair - 1 ? 2 : nbeam - 2 * q;  // bonds to apply: the last lane may be a copy
+    const int nb = p.n;  // bonds to apply: lane 1 of a pair with one bond is a copy
     if constexpr (!EVFLAG) {
       const double *xi0 = x + 3 * p.i[0], *xi1 = x + 3 * p.i[1];
       const double *xj0 = x + 3 * p.j[0], *xj1 = x + 3 * p.j[1];
@@ -432,7 +517,10 @@ void BondWirenet::compute_beams(int eflag)
         n.rj[c] = Lanes{ rj0[c], rj1[c] };
       }
       BeamLoad<Lanes> out;
-      if (BeamLaw::load<false, STRENGTH>(p.c, n, out)) {
+      bool done;
+      if constexpr (SECTION) done = BeamLaw::load_section<false>(p.c, section_list[q - ncircular], n, out);
+      else done = BeamLaw::load<false, STRENGTH>(p.c, n, out);
+      if (done) {
         for (int k = 0; k < nb; k++) {
           if (STRENGTH && out.fail[k] >= 1.0) break_beam(p, k);
           else apply(out, k, p.i[k], p.j[k], f, t);
@@ -445,7 +533,8 @@ void BondWirenet::compute_beams(int eflag)
       BeamNodes<double> n;
       gather_nodes(x, rot, i, j, n);
       BeamResult out;
-      BeamLaw::load<EVFLAG != 0, STRENGTH>(lane(p.c, k), n, out);
+      if constexpr (SECTION) BeamLaw::load_section<EVFLAG != 0>(lane(p.c, k), lane(section_list[q - ncircular], k), n, out);
+      else BeamLaw::load<EVFLAG != 0, STRENGTH>(lane(p.c, k), n, out);
       if (STRENGTH && out.fail >= 1.0) {
         break_beam(p, k);
         continue;
@@ -479,12 +568,17 @@ void BondWirenet::compute(int eflag, int vflag)
     compute_wire(e, dx, dy, dz, sqrt(dx * dx + dy * dy + dz * dz), eflag);
   }
   if (!beam_list.empty()) {
+    const int npair = (int)beam_list.size();
     if (any_strength) {
-      if (evflag) compute_beams<1, true>(eflag);
-      else compute_beams<0, true>(eflag);
+      if (evflag) compute_beams<1, true, false>(eflag, 0, ncircular);
+      else compute_beams<0, true, false>(eflag, 0, ncircular);
     } else {
-      if (evflag) compute_beams<1, false>(eflag);
-      else compute_beams<0, false>(eflag);
+      if (evflag) compute_beams<1, false, false>(eflag, 0, ncircular);
+      else compute_beams<0, false, false>(eflag, 0, ncircular);
+    }
+    if (ncircular < npair) {
+      if (evflag) compute_beams<1, false, true>(eflag, ncircular, npair);
+      else compute_beams<0, false, true>(eflag, ncircular, npair);
     }
     if (any_beam_damping) damp_beams();
   }
@@ -502,7 +596,7 @@ void BondWirenet::damp_beams()
   double *f = atom->f[0], *t = atom->torque[0];
   for (int q = 0; q < (int)beam_list.size(); q++) {
     const BeamPair &p = beam_list[q];
-    for (int k = 0; k < 2 && 2 * q + k < nbeam; k++) {
+    for (int k = 0; k < p.n; k++) {
       const double ca = p.c.ca[k], cs = p.c.cs[k], cb = p.c.cb[k], ct = p.c.ct[k];
       if (ca == 0.0 && cs == 0.0 && cb == 0.0 && ct == 0.0) continue;  // undamped type or broken
       const int i = p.i[k], j = p.j[k];
@@ -523,9 +617,16 @@ void BondWirenet::report_timestep()
     w2_trans = fmax(w2_trans, 2.0 * e.h[W_KU] * (1.0 / rmass[e.i] + 1.0 / rmass[e.j]));
   }
   for (int q = 0; q < (int)beam_list.size(); q++)
-    for (int k = 0; k < 2 && 2 * q + k < nbeam; k++) {
+    for (int k = 0; k < beam_list[q].n; k++) {
       const BeamPair &p = beam_list[q];
-      const BeamConst<double> b = lane(p.c, k);
+      BeamConst<double> b = lane(p.c, k);
+      if (q >= ncircular) {
+        // a general section: the stiffer axis (mean + |half difference|)
+        const BeamSection<double> s = lane(section_list[q - ncircular], k);
+        b.kp += fabs(s.kpd);
+        b.km = fabs(b.km) + fabs(s.kmd);
+        b.kf += fabs(s.kfd);
+      }
       const int i = p.i[k], j = p.j[k];
       // axial or shear (4 Cs / l0^2) translation; rotation: the larger eigenvalue of the end
       // moments, Kb + Cs + |Cs - Kb|, plus twist
@@ -623,5 +724,6 @@ void BondWirenet::read_restart(FILE *fp)
 double BondWirenet::memory_usage()
 {
   return Bond::memory_usage() + (double)wire_list.capacity() * sizeof(WireEntry) +
-         (double)beam_list.capacity() * sizeof(BeamPair);
+         (double)beam_list.capacity() * sizeof(BeamPair) +
+         (double)section_list.capacity() * sizeof(WireNet::BeamSection<WireNet::Lanes>);
 }

@@ -1,6 +1,7 @@
 /* WireNet: bond_style wirenet, remote bonds between the node spheres of a wire net.
-   Laws per bond type: `wire` (tension-only elasto-plastic) and `beam` (corotational parallel
-   bond). See doc/bond_wirenet.md. */
+   Laws per bond type: `wire` (tension-only elasto-plastic), `beam` (corotational parallel
+   bond) and `brake` (a rope brake: a wire bond with a force-elongation envelope). See
+   doc/bond_wirenet.md. */
 
 #ifdef BOND_CLASS
 
@@ -45,26 +46,30 @@ class BondWirenet : public Bond {
  private:
   // The intact local bonds, rebuilt whenever atoms or bond slots change: wire bonds as entries
   // into the history, beam bonds (records set at their first run, constant afterwards) as
-  // copies of their constants, two bonds per entry, one per SIMD lane. An odd count repeats the
-  // last bond in lane 1 of the last pair: computed, not applied.
+  // copies of their constants, two bonds per entry, one per SIMD lane: first the circular
+  // sections (ncircular pairs), then the general sections, whose anisotropic constants are in
+  // section_list (same order). A pair with one bond (n = 1, the last of each group) repeats it
+  // in lane 1: computed, not applied.
   struct Entry { int i, j, type, m; double *h; };
   // a wire bond with the constants of its envelope and damping (built with the list)
   struct WireEntry : Entry { WireNet::WireConst k; double zeta; };
-  struct BeamPair { WireNet::BeamConst<WireNet::Lanes> c; int i[2], j[2], m[2]; };
+  struct BeamPair { WireNet::BeamConst<WireNet::Lanes> c; int i[2], j[2], m[2]; int n; };
   std::vector<WireEntry> wire_list;
   std::vector<BeamPair> beam_list;
-  int nbeam;  // beam bonds in beam_list
+  std::vector<WireNet::BeamSection<WireNet::Lanes>> section_list;  // [pair - ncircular]
+  int nbeam;      // beam bonds in beam_list
+  int ncircular;  // pairs of circular beams, at the front of beam_list
   long list_version;
   class FixWirenetBonds *history;
 
   std::vector<WireNet::BondTypeSpec> specs;                 // [type]
-  std::vector<std::unique_ptr<WireNet::WireLaw>> wires;     // [type], null if not a wire
+  std::vector<std::unique_ptr<WireNet::WireLaw>> wires;     // [type], null if not a wire or brake
   std::vector<std::unique_ptr<WireNet::BeamLaw>> beams;     // [type], null if not a beam
   int any_beam;
   int any_strength;      // a beam type with `strength`
   int any_beam_damping;  // a beam type with `damping` > 0
   int any_damping;       // any type with `damping` > 0
-  double plastic_work;  // plastic work of the wire bonds in this compute() (energy budget)
+  double plastic_work;  // plastic work of the wire and brake bonds in this compute() (energy budget)
   double damping_work;  // energy dissipated by bond damping in this compute()
 
   void allocate();
@@ -72,12 +77,14 @@ class BondWirenet : public Bond {
   void build_list();
   void init_record(const Entry &e, double length);
   inline void compute_wire(const WireEntry &e, double dx, double dy, double dz, double r, int eflag);
-  template <int EVFLAG, bool STRENGTH> void compute_beams(int eflag);
+  template <int EVFLAG, bool STRENGTH, bool SECTION> void compute_beams(int eflag, int q0, int q1);
+  void pad_last_pair(WireNet::BeamSection<WireNet::Lanes> *s);
   void break_beam(BeamPair &p, int k);
   void damp_beams();
   void report_timestep();
   void ensure_history_fix();
   bool beam_bonds_present() const;  // any bond of a beam type on any rank (collective)
+  double brake_reach_present() const;  // largest reach of a brake bond on any rank (collective)
   void report_types();
   bool duplicates_checked;
   void check_duplicate_bonds();  // a bond listed twice in the data file (collective)

@@ -12,6 +12,10 @@
      shear    F_j = 2 Cs (th_i + th_j) x e / L   (moment balance of the bond, F_i = -F_j).
    Kb = EI/L0 with Ks = 12 EI/L0^3 (Cs = 3 EI/L0) is the exact Euler-Bernoulli element;
    Ks = GA/L0 is the classical parallel bond.
+   A general section (`section A IY IZ J orient ...`) has a Kb and a Cs per principal axis: the
+   rotation vectors, normal to e, are split into their parts along the current axes y and z,
+   each with its own stiffness (written as the mean of the two axes plus D = y y^T - z z^T times
+   half their difference; the circle has no difference and runs the kernel without D).
    The force kernel, BeamLaw::load, is inline in the header: it is the body of the bond loop. */
 
 #include "wirenet_beam_law.h"
@@ -41,7 +45,28 @@ inline void store3(double *h, const Vector3d &v) { h[0] = v[0]; h[1] = v[1]; h[2
 BeamLaw::BeamLaw(const BeamLawParams &p) : p_(p)
 {
   // isfinite refuses inf and nan (which would pass a negated comparison)
-  require(std::isfinite(p.diameter) && p.diameter > 0.0, "beam diameter must be a finite number > 0", p.diameter);
+  if (p.section) {
+    require(std::isfinite(p.area) && p.area > 0.0, "beam section A must be a finite number > 0", p.area);
+    require(std::isfinite(p.iy) && p.iy > 0.0, "beam section IY must be a finite number > 0", p.iy);
+    require(std::isfinite(p.iz) && p.iz > 0.0, "beam section IZ must be a finite number > 0", p.iz);
+    require(std::isfinite(p.torsion) && p.torsion > 0.0, "beam section J must be a finite number > 0", p.torsion);
+    for (int c = 0; c < 3; c++)
+      require(std::isfinite(p.orient[c]), std::string("beam orient ") + "XYZ"[c] + " must be a finite number",
+              p.orient[c]);
+    const double o2 = p.orient[0] * p.orient[0] + p.orient[1] * p.orient[1] + p.orient[2] * p.orient[2];
+    if (!(o2 > 0.0 && std::isfinite(o2))) {
+      std::ostringstream m;
+      m << "beam orient must be a non-zero vector of finite length (got " << p.orient[0] << " " << p.orient[1] << " "
+        << p.orient[2] << ")";
+      throw std::invalid_argument(m.str());
+    }
+    // the parallel-bond stresses need the radius of a circle; bond damping's modes an isotropic
+    // bending stiffness
+    if (p.strength) throw std::invalid_argument("beam strength needs a circular section (diameter), not section");
+    if (p.damping != 0.0) throw std::invalid_argument("beam damping is not available with section (use a circular section or no damping)");
+  } else {
+    require(std::isfinite(p.diameter) && p.diameter > 0.0, "beam diameter must be a finite number > 0", p.diameter);
+  }
   require(std::isfinite(p.young) && p.young > 0.0, "beam E must be a finite number > 0", p.young);
   require(p.nu > -1.0 && p.nu < 0.5, "beam nu must be in (-1,0.5)", p.nu);
   require(std::isfinite(p.bending) && p.bending >= 0.0, "beam bending fraction must be a finite number >= 0", p.bending);
@@ -53,14 +78,21 @@ BeamLaw::BeamLaw(const BeamLawParams &p) : p_(p)
     require(std::isfinite(p.tau_c) && p.tau_c > 0.0, "beam strength TAU_C must be a finite number > 0", p.tau_c);
   }
   require(std::isfinite(p.damping) && p.damping >= 0.0, "beam damping must be a finite number >= 0", p.damping);
-  const double r = 0.5 * p.diameter;
-  area_ = M_PI * r * r;
-  inertia_ = M_PI * r * r * r * r / 4.0;
-  polar_ = 2.0 * inertia_;
+  if (p.section) {
+    area_ = p.area;
+    inertia_ = 0.5 * (p.iy + p.iz);
+    polar_ = p.torsion;
+  } else {
+    const double r = 0.5 * p.diameter;
+    area_ = M_PI * r * r;
+    inertia_ = M_PI * r * r * r * r / 4.0;
+    polar_ = 2.0 * inertia_;
+  }
   young_ = p.young;
   shear_modulus_ = p.young / (2.0 * (1.0 + p.nu));
   EA_ = young_ * area_;
   fEI_ = p.bending * young_ * inertia_;
+  if (p.section) fEId_ = p.bending * young_ * 0.5 * (p.iy - p.iz);
   ftGJ_ = twist_fraction_ * shear_modulus_ * polar_;
   GA_ = shear_modulus_ * area_;
 }
@@ -82,9 +114,22 @@ void BeamLaw::init_bond(double *h, const Vector3d &xi, const Vector3d &xj, const
   const Vector3d d = xj - xi;
   const double l0 = d.norm();
   const Vector3d e = d / l0;
-  // any unit normal of the chord; fixed from the chord so it is the same on every rank
-  Vector3d n = e.cross(Vector3d::UnitZ());
-  if (n.norm() < 0.1) n = e.cross(Vector3d::UnitX());
+  Vector3d n;
+  if (p_.section) {
+    // the principal axis y: `orient` without its part along the bond
+    const Vector3d o(p_.orient[0], p_.orient[1], p_.orient[2]);
+    n = o - o.dot(e) * e;
+    if (!(n.norm() >= 1e-3 * o.norm())) {
+      std::ostringstream m;
+      m << "beam orient (" << o[0] << ", " << o[1] << ", " << o[2] << ") is parallel to the bond (direction ("
+        << e[0] << ", " << e[1] << ", " << e[2] << ")); give a vector across it";
+      throw std::invalid_argument(m.str());
+    }
+  } else {
+    // any unit normal of the chord; fixed from the chord so it is the same on every rank
+    n = e.cross(Vector3d::UnitZ());
+    if (n.norm() < 0.1) n = e.cross(Vector3d::UnitX());
+  }
   n.normalize();
   h[B_L0] = l0;
   store3(h + B_DI, ri.transpose() * e);
@@ -116,6 +161,17 @@ void BeamLaw::prepare(const double *h, BeamConst<double> &b) const
     b.pi[c] = h[B_PI + c];
     b.pj[c] = h[B_PJ + c];
   }
+}
+
+void BeamLaw::prepare_section(const double *h, BeamSection<double> &s) const
+{
+  // the halves of the differences between the axes y and z of Kb, Cs and 2 Cs (prepare())
+  const double l0 = h[B_L0];
+  const double kbd = fEId_ / l0;
+  const double csd = p_.shear == ShearModel::EULER_BERNOULLI ? 3.0 * kbd : 0.0;  // pb: G A L0 / 4, isotropic
+  s.kpd = kbd + csd;
+  s.kmd = csd - kbd;
+  s.kfd = 2.0 * csd;
 }
 
 void BeamLaw::set_damping(double l0, double mi, double mj, double ii, double ij, BeamConst<double> &b) const
@@ -171,6 +227,18 @@ void set_lane(BeamConst<Lanes> &p, int k, const BeamConst<double> &b)
   }
 }
 
+BeamSection<double> lane(const BeamSection<Lanes> &p, int k)
+{
+  return { p.kpd[k], p.kmd[k], p.kfd[k] };
+}
+
+void set_lane(BeamSection<Lanes> &p, int k, const BeamSection<double> &s)
+{
+  p.kpd[k] = s.kpd;
+  p.kmd[k] = s.kmd;
+  p.kfd[k] = s.kfd;
+}
+
 void BeamLaw::evaluate(const double *h, const double *xi, const double *xj, const double *ri,
                        const double *rj, BeamResult &out, bool report) const
 {
@@ -184,6 +252,13 @@ void BeamLaw::evaluate(const double *h, const double *xi, const double *xj, cons
   for (int c = 0; c < 9; c++) {
     n.ri[c] = ri[c];
     n.rj[c] = rj[c];
+  }
+  if (p_.section) {
+    BeamSection<double> s;
+    prepare_section(h, s);
+    if (report) load_section<true>(b, s, n, out);
+    else load_section<false>(b, s, n, out);
+    return;
   }
   if (report) load<true>(b, n, out);
   else load<false>(b, n, out);

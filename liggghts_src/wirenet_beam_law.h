@@ -15,7 +15,13 @@ namespace WireNet {
 enum class ShearModel { EULER_BERNOULLI = 0, PARALLEL_BOND = 1 };
 
 struct BeamLawParams {
-  double diameter = 0.0;
+  double diameter = 0.0;  // solid circular section (`diameter D`); 0 with `section`
+  // `section A IY IZ J orient X Y Z`: a general section instead of the circle: area, second
+  // moments about the section's principal axes y and z, torsion constant; y is the space vector
+  // `orient` at the first run, projected normal to the bond, and z = e x y (e along the bond)
+  bool section = false;
+  double area = 0.0, iy = 0.0, iz = 0.0, torsion = 0.0;
+  double orient[3] = { 0.0, 0.0, 0.0 };
   double young = 0.0;
   double nu = 0.0;
   double bending = 1.0;  // fraction of E I
@@ -61,6 +67,12 @@ template <typename T> struct BeamConst {
   T ca, cs, cb, ct;
 };
 
+// The anisotropic part of a general section's bending (`section` with IY != IZ), the halves of
+// the differences between the principal axes y and z: with D v = y (y.v) - z (z.v) the end
+// moments get kpd D th_i + kmd D th_j (and the symmetric term), the shear kfd D (th_i + th_j).
+// A circular section has none and its bonds never read this.
+template <typename T> struct BeamSection { T kpd, kmd, kfd; };
+
 // What the kernel reads of the nodes: positions and row-major rotation matrices (body to space).
 template <typename T> struct BeamNodes { T xi[3], xj[3], ri[9], rj[9]; };
 
@@ -79,6 +91,8 @@ using BeamResult = BeamLoad<double>;
 // lane k of a pair of bonds, and back
 BeamConst<double> lane(const BeamConst<Lanes> &p, int k);
 void set_lane(BeamConst<Lanes> &p, int k, const BeamConst<double> &b);
+BeamSection<double> lane(const BeamSection<Lanes> &p, int k);
+void set_lane(BeamSection<Lanes> &p, int k, const BeamSection<double> &s);
 
 class BeamLaw {
  public:
@@ -87,15 +101,20 @@ class BeamLaw {
   const BeamLawParams &params() const { return p_; }
 
   double area() const { return area_; }
-  double EI() const { return young_ * inertia_; }
+  double EI() const { return young_ * inertia_; }  // a general section: the mean of the two axes
   double GJ() const { return shear_modulus_ * polar_; }
 
-  // Node orientations are rotation matrices (row-major, body to space).
+  // Node orientations are rotation matrices (row-major, body to space). With `section` the
+  // record's reference normal is the principal axis y (`orient` projected normal to the bond);
+  // throws std::invalid_argument when `orient` is (nearly) parallel to the bond.
   using Rotation = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>;
   void init_bond(double *h, const Eigen::Vector3d &xi, const Eigen::Vector3d &xj,
                  const Rotation &ri, const Rotation &rj) const;
   // the constants of an initialised record
   void prepare(const double *h, BeamConst<double> &b) const;
+  // a general section (has_section()): the anisotropic constants of an initialised record
+  void prepare_section(const double *h, BeamSection<double> &s) const;
+  bool has_section() const { return p_.section; }
 
   // Forces and moments of one bond or a pair; with REPORT false only forces, torques and the
   // axial force are filled (REPORT needs T = double), STRESS adds the failure index. A pair
@@ -104,6 +123,10 @@ class BeamLaw {
   // component: it is the bond loop.
   template <bool REPORT, bool STRESS = false, typename T>
   static bool load(const BeamConst<T> &b, const BeamNodes<T> &n, BeamLoad<T> &out);
+  // The same for a bond of a general section (the isotropic part in b, the rest in s).
+  template <bool REPORT, bool STRESS = false, typename T>
+  static bool load_section(const BeamConst<T> &b, const BeamSection<T> &s, const BeamNodes<T> &n,
+                           BeamLoad<T> &out);
 
   // Viscous damping of one bond (see doc/bond_wirenet.md, "Bond damping"): node velocities v and
   // angular velocities w. Adds the force on i (j gets the opposite) and the torques on i and j,
@@ -121,14 +144,19 @@ class BeamLaw {
   void evaluate(const double *h, const double *xi, const double *xj, const double *ri,
                 const double *rj, BeamResult &out, bool report = true) const;
 
-  // Stiffnesses of a bond of initial length l0 (for the time-step estimate).
+  // Stiffnesses of a bond of initial length l0 (for the time-step estimate); bending and
+  // shear_coupling of a general section are the means of its two axes.
   struct Stiffness { double axial, bending, shear_coupling, twist; };
   Stiffness stiffness(double l0) const;
 
  private:
+  template <bool REPORT, bool STRESS, bool SECTION, typename T>
+  static bool kernel(const BeamConst<T> &b, const BeamSection<T> *s, const BeamNodes<T> &n, BeamLoad<T> &out);
+
   BeamLawParams p_;
   double area_, inertia_, polar_, young_, shear_modulus_, twist_fraction_;
   double EA_, fEI_, ftGJ_, GA_;  // stiffness numerators, divided by l0 per bond
+  double fEId_ = 0.0;            // a general section: f E (IY - IZ) / 2, per bond / l0
 };
 
 namespace beam_kernel {
@@ -205,11 +233,25 @@ template <typename T> inline bool bend(const V<T> &a, const V<T> &b, V<T> &th)
 
 }  // namespace beam_kernel
 
-// always_inline: GCC would call it, and the loop would pay for the call and the result's trip
-// through memory
 template <bool REPORT, bool STRESS, typename T>
 inline __attribute__((always_inline)) bool BeamLaw::load(const BeamConst<T> &b, const BeamNodes<T> &n,
                                                          BeamLoad<T> &out)
+{
+  return kernel<REPORT, STRESS, false>(b, static_cast<const BeamSection<T> *>(nullptr), n, out);
+}
+
+template <bool REPORT, bool STRESS, typename T>
+inline __attribute__((always_inline)) bool BeamLaw::load_section(const BeamConst<T> &b, const BeamSection<T> &s,
+                                                                 const BeamNodes<T> &n, BeamLoad<T> &out)
+{
+  return kernel<REPORT, STRESS, true>(b, &s, n, out);
+}
+
+// always_inline: GCC would call it, and the loop would pay for the call and the result's trip
+// through memory. SECTION false is the circular section, exactly as before general sections.
+template <bool REPORT, bool STRESS, bool SECTION, typename T>
+inline __attribute__((always_inline)) bool BeamLaw::kernel(const BeamConst<T> &b, const BeamSection<T> *s,
+                                                           const BeamNodes<T> &n, BeamLoad<T> &out)
 {
   using namespace beam_kernel;
   const V<T> d = { n.xj[0] - n.xi[0], n.xj[1] - n.xi[1], n.xj[2] - n.xi[2] };
@@ -227,10 +269,32 @@ inline __attribute__((always_inline)) bool BeamLaw::load(const BeamConst<T> &b, 
   if (!angle(dot(e, cross(ni, nj)), dot(ni, nj) - dot(e, ni) * dot(e, nj), phi)) return false;
 
   // bending moments Kb (th_i - th_j) + Cs (th_i + th_j) at both ends, the shear of their balance
-  const V<T> m_i = lin(b.kp, th_i, b.km, th_j), m_j = lin(b.kp, th_j, b.km, th_i);
+  V<T> m_i = lin(b.kp, th_i, b.km, th_j), m_j = lin(b.kp, th_j, b.km, th_i);
   const V<T> sum = { th_i.x + th_j.x, th_i.y + th_j.y, th_i.z + th_j.z };
-  const V<T> sc = cross(sum, e);
-  const T fs = b.kf * inv_L;
+  V<T> sc;
+  T fs;
+  if constexpr (!SECTION) {
+    sc = cross(sum, e);
+    fs = b.kf * inv_L;
+  } else {
+    // principal axis y: the two ends' reference normals (the record's `orient`), averaged and
+    // made normal to the chord; z = e x y. The rotation vectors are normal to e, so
+    // D v = y (y.v) - z (z.v) splits them into the two axes' parts.
+    const V<T> a = { ni.x + nj.x, ni.y + nj.y, ni.z + nj.z };
+    const T ae = dot(a, e);
+    V<T> y = { a.x - ae * e.x, a.y - ae * e.y, a.z - ae * e.z };
+    const T inv_y = 1.0 / root(dot(y, y));
+    y = { y.x * inv_y, y.y * inv_y, y.z * inv_y };
+    const V<T> z = cross(e, y);
+    const V<T> di = lin(dot(y, th_i), y, -dot(z, th_i), z);
+    const V<T> dj = lin(dot(y, th_j), y, -dot(z, th_j), z);
+    const V<T> ci = lin(s->kpd, di, s->kmd, dj), cj = lin(s->kpd, dj, s->kmd, di);
+    m_i = { m_i.x + ci.x, m_i.y + ci.y, m_i.z + ci.z };
+    m_j = { m_j.x + cj.x, m_j.y + cj.y, m_j.z + cj.z };
+    const V<T> ds = { di.x + dj.x, di.y + dj.y, di.z + dj.z };
+    sc = cross(lin(b.kf, sum, s->kfd, ds), e);
+    fs = inv_L;
+  }
   const T axial = b.ka * (L - b.l0), tw = b.kt * phi;
 
   out.force_i[0] = axial * e.x - fs * sc.x;

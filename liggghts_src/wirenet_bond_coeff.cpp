@@ -130,7 +130,24 @@ void parse_wire(ArgCursor &c, BondTypeSpec &spec)
 void parse_beam(ArgCursor &c, BondTypeSpec &spec)
 {
   BeamLawParams &b = spec.beam;
-  b.diameter = c.keyed("diameter", "beam", false);
+  const std::string shape = c.word("beam 'diameter' or 'section'");
+  if (shape == "diameter") {
+    b.diameter = c.number("beam diameter", false);
+  } else if (shape == "section") {
+    // section A IY IZ J orient X Y Z
+    b.section = true;
+    b.area = c.number("beam section A", false);
+    b.iy = c.number("beam section IY", false);
+    b.iz = c.number("beam section IZ", false);
+    b.torsion = c.number("beam section J", false);
+    const std::string o = c.word("beam 'orient' (after section A IY IZ J)");
+    if (o != "orient") throw std::invalid_argument("beam section: expected 'orient' after A IY IZ J, got '" + o + "'");
+    b.orient[0] = c.number("beam orient X", false);
+    b.orient[1] = c.number("beam orient Y", false);
+    b.orient[2] = c.number("beam orient Z", false);
+  } else {
+    throw std::invalid_argument("beam: expected 'diameter' or 'section', got '" + shape + "'");
+  }
   b.young = c.keyed("E", "beam", false);
   b.nu = c.keyed("nu", "beam", false);
   while (!c.done()) {
@@ -160,13 +177,49 @@ void parse_beam(ArgCursor &c, BondTypeSpec &spec)
   BeamLaw check(b);  // validates the parameters
 }
 
+// `brake force F_ACT stroke S stiffness K [lock K_LOCK] [break F_BREAK] [family NAME]
+// [damping ZETA]`: keyword-value pairs in any order, each at most once.
+void parse_brake(ArgCursor &c, BondTypeSpec &spec)
+{
+  BrakeLawParams &b = spec.brake;
+  std::vector<std::string> seen;
+  while (!c.done()) {
+    const std::string key = c.word("keyword");
+    for (const std::string &s : seen)
+      if (s == key) throw std::invalid_argument("brake " + key + " is given twice");
+    seen.push_back(key);
+    if (key == "force") b.force = c.number("brake force", false);
+    else if (key == "stroke") b.stroke = c.number("brake stroke", false);
+    else if (key == "stiffness") b.stiffness = c.number("brake stiffness", false);
+    else if (key == "lock") b.lock = c.number("brake lock", false);
+    else if (key == "break") b.breaking = c.number("brake break", false);
+    else if (key == "damping") b.damping = c.number("brake damping", false);
+    else if (key == "family") spec.family = c.word("family name");
+    else {
+      double ignored;
+      if (classify(key, ignored) != Word::TEXT)
+        throw std::invalid_argument("unexpected number '" + key + "' in the brake options (a keyword is due)");
+      throw std::invalid_argument("unknown brake keyword '" + key + "'");
+    }
+  }
+  for (const char *required : { "force", "stroke", "stiffness" }) {
+    bool found = false;
+    for (const std::string &s : seen) found = found || s == required;
+    if (!found)
+      throw std::invalid_argument(std::string("missing brake ") + required +
+                                  " (brake force F_ACT stroke S stiffness K are required)");
+  }
+  BrakeLaw check(b);  // validates the parameters
+  WireLaw envelope(check.envelope());
+}
+
 }  // namespace
 
 BondTypeSpec parse_bond_coeff(const std::vector<std::string> &args)
 {
   ArgCursor c(args);
   BondTypeSpec spec;
-  const std::string law = c.word("law (wire or beam)");
+  const std::string law = c.word("law (wire, beam or brake)");
   if (law == "wire") {
     spec.kind = LawKind::WIRE;
     spec.family = "wire";
@@ -175,8 +228,12 @@ BondTypeSpec parse_bond_coeff(const std::vector<std::string> &args)
     spec.kind = LawKind::BEAM;
     spec.family = "beam";
     parse_beam(c, spec);
+  } else if (law == "brake") {
+    spec.kind = LawKind::BRAKE;
+    spec.family = "brake";
+    parse_brake(c, spec);
   } else {
-    throw std::invalid_argument("unknown law '" + law + "' (expected wire or beam)");
+    throw std::invalid_argument("unknown law '" + law + "' (expected wire, beam or brake)");
   }
   return spec;
 }
@@ -196,6 +253,12 @@ std::vector<double> BondTypeSpec::serialize() const
     const BeamLawParams &b = beam;
     v.insert(v.end(), { b.diameter, b.young, b.nu, b.bending, b.twist, (double)b.shear,
                         (double)b.strength, b.sigma_t, b.tau_c, b.damping });
+    if (b.section)  // only then: a circular type's record is the one of files before sections
+      v.insert(v.end(), { 1.0, b.area, b.iy, b.iz, b.torsion, b.orient[0], b.orient[1], b.orient[2] });
+  } else if (kind == LawKind::BRAKE) {
+    const BrakeLawParams &b = brake;
+    v.insert(v.end(), { b.force, b.stroke, b.stiffness, (double)b.lock.has_value(), b.lock.value_or(0.0),
+                        (double)b.breaking.has_value(), b.breaking.value_or(0.0), b.damping });
   }
   return v;
 }
@@ -226,6 +289,21 @@ BondTypeSpec BondTypeSpec::deserialize(const std::vector<double> &v, const std::
       b.strength = v.at(k++) != 0.0;
       b.sigma_t = v.at(k++); b.tau_c = v.at(k++); b.damping = v.at(k++);
     }
+    if (k < v.size()) {  // a general section
+      b.section = v.at(k++) != 0.0;
+      b.area = v.at(k++); b.iy = v.at(k++); b.iz = v.at(k++); b.torsion = v.at(k++);
+      for (int c = 0; c < 3; c++) b.orient[c] = v.at(k++);
+    }
+  } else if (s.kind == LawKind::BRAKE) {
+    BrakeLawParams &b = s.brake;
+    b.force = v.at(k++); b.stroke = v.at(k++); b.stiffness = v.at(k++);
+    if (v.at(k++) != 0.0) b.lock = v.at(k);
+    ++k;
+    if (v.at(k++) != 0.0) b.breaking = v.at(k);
+    ++k;
+    b.damping = v.at(k++);
+  } else if (s.kind != LawKind::NONE) {
+    throw std::invalid_argument("unknown law in the restart file");
   }
   return s;
 }

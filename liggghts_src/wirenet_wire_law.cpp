@@ -40,10 +40,14 @@ double unit(uint64_t z) { return (double)(z >> 11) * (1.0 / 9007199254740992.0);
 WireLaw::WireLaw(const WireLawParams &p) : p_(p)
 {
   // every check is written so that nan fails it; isfinite refuses inf
-  require(std::isfinite(p.diameter) && p.diameter > 0.0,
-          "wire diameter must be a finite number > 0 (got " + fmt(p.diameter) + ")");
-  require(std::isfinite(p.area_factor) && p.area_factor > 0.0,
-          "wire area_factor must be a finite number > 0 (got " + fmt(p.area_factor) + ")");
+  if (!p.force_elongation) {
+    require(std::isfinite(p.diameter) && p.diameter > 0.0,
+            "wire diameter must be a finite number > 0 (got " + fmt(p.diameter) + ")");
+    require(std::isfinite(p.area_factor) && p.area_factor > 0.0,
+            "wire area_factor must be a finite number > 0 (got " + fmt(p.area_factor) + ")");
+  } else {
+    require(!p.derived && !p.slack, "a force-elongation table takes neither derived nor slack");
+  }
   require(std::isfinite(p.damping) && p.damping >= 0.0,
           "wire damping must be a finite number >= 0 (got " + fmt(p.damping) + ")");
   require(!p.strain.empty(), "wire law needs a curve (strain stress pairs)");
@@ -59,7 +63,7 @@ WireLaw::WireLaw(const WireLawParams &p) : p_(p)
                                              " then " + fmt(p.strain[i]) + ")");
   }
   require(p.stress[0] > 0.0, "wire curve point 1: stress must be > 0 (it sets the elastic stiffness)");
-  area_ = p.area_factor * M_PI * p.diameter * p.diameter / 4.0;
+  area_ = p.force_elongation ? 0.0 : p.area_factor * M_PI * p.diameter * p.diameter / 4.0;
 
   strain_ = p.strain;
   stress_ = p.stress;
@@ -85,6 +89,7 @@ WireLaw::WireLaw(const WireLawParams &p) : p_(p)
       elastic_point_ = 1;
     }
   }
+  rupture_strain_ = p.breakable ? strain_.back() : INFINITY;
   slope_.assign(strain_.size(), 0.0);
   for (size_t k = 0; k + 1 < strain_.size(); ++k)
     slope_[k] = (stress_[k + 1] - stress_[k]) / (strain_[k + 1] - strain_[k]);
@@ -92,6 +97,8 @@ WireLaw::WireLaw(const WireLawParams &p) : p_(p)
 
 double WireLaw::max_stretch() const
 {
+  // elongations in metres do not scale with l0: the caller bounds them (the brake's reach)
+  if (p_.force_elongation) return 1.0;
   const double slack = p_.slack ? p_.lambda_u : 0.0;
   return (1.0 + slack) * (1.0 + strain_.back());
 }
@@ -122,9 +129,15 @@ void WireLaw::init_bond(double *h, double l0, long tag1, long tag2) const
     scale = 2.0 * (p_.lambda_k * kh_over_k + (1.0 - p_.lambda_k));
   }
   h[W_L0] = l0;
-  h[W_A] = l0 + dl;
-  h[W_B] = dl;
-  h[W_C] = area_ * scale;
+  if (p_.force_elongation) {
+    h[W_A] = 1.0;
+    h[W_B] = 0.0;
+    h[W_C] = 1.0;
+  } else {
+    h[W_A] = l0 + dl;
+    h[W_B] = dl;
+    h[W_C] = area_ * scale;
+  }
   h[W_KU] = h[W_C] * stress_[elastic_point_] / (h[W_A] * strain_[elastic_point_]);
   h[W_UMAX] = 0.0;
   h[W_FMAX] = 0.0;
@@ -132,7 +145,7 @@ void WireLaw::init_bond(double *h, double l0, long tag1, long tag2) const
 
 void WireLaw::prepare(const double *h, WireConst &k) const
 {
-  k.u_rupture = h[W_A] * strain_.back() + h[W_B];
+  k.u_rupture = h[W_A] * rupture_strain_ + h[W_B];
   k.u1 = h[W_A] * strain_[0] + h[W_B];
   k.k1 = h[W_C] * stress_[0] / k.u1;
   k.inv_a = 1.0 / h[W_A];

@@ -13,8 +13,9 @@ namespace WireNet {
 // The bond's force-elongation envelope is the type's (strain, stress) table mapped by
 //   u = a * strain + b,  F = c * stress,
 // preceded by the segment from (0,0) to the first mapped point. This one transform covers the
-// plain law (a = l0, b = 0, c = A), the derived double-twist law (c scaled by k_D/k) and the
-// random initial slack (a = l0 + dl, b = dl).
+// plain law (a = l0, b = 0, c = A), the derived double-twist law (c scaled by k_D/k), the
+// random initial slack (a = l0 + dl, b = dl) and a table of elongations and forces (a = 1,
+// b = 0, c = 1: the brake law, wirenet_brake_law.h).
 enum WireSlot {
   W_L0 = 0,     // initial length; 0 until the bond is initialised at the first run
   W_A,          // strain -> elongation scale
@@ -48,6 +49,11 @@ struct WireLawParams {
   double lambda_u = 0.0, lambda_f = 1.0;
   long seed = 0;
   double damping = 0.0;  // fraction of critical damping of the bond's two-node oscillator
+  // The table holds elongations [m] and forces [N], used as they are (a = 1, b = 0, c = 1):
+  // diameter, area_factor, derived and slack do not apply.
+  bool force_elongation = false;
+  // false: no rupture, the last segment of the table continues without end
+  bool breakable = true;
 };
 
 class WireLaw {
@@ -57,8 +63,9 @@ class WireLaw {
 
   const WireLawParams &params() const { return p_; }
   double area() const { return area_; }
-  double rupture_strain() const { return strain_.back(); }
-  // Upper bound of (length / l0) before rupture, for the ghost cutoff.
+  double rupture_strain() const { return rupture_strain_; }  // infinite if not breakable
+  // Upper bound of (length / l0) before rupture, for the ghost cutoff (1 for a force-elongation
+  // table, whose elongations do not scale with l0).
   double max_stretch() const;
 
   // Fill a bond's record from its initial length and the two atom tags (slack draw).
@@ -85,6 +92,7 @@ class WireLaw {
   std::vector<double> strain_, stress_, slope_;  // effective table (derived / slack applied)
   int elastic_point_ = 0;  // table index of the point that defines the unloading stiffness
   double dt_kh_factor_ = 0.0;
+  double rupture_strain_ = 0.0;  // last table strain, or infinity (not breakable)
 };
 
 // ----------------------------------------------------------------------------------------------

@@ -78,7 +78,7 @@ def case_summary(case):
         summary["beam"] = [dict(zip(study.TABLES["beam"][1], map(float, row)))
                            for row in zip(*(beam[c] for c in study.TABLES["beam"][1]))]
         summary["beam_max_nrmse"] = _peak_abs(beam["nrmse"])
-    for key in ("first_rupture", "edge_force_peak", "wall_time", "ended_by",
+    for key in ("first_rupture", "edge_force_peak", "wall_time", "started", "finished", "ended_by",
                 "first_rope_rupture", "bending", "bending_source", "panel"):
         summary[key] = case.meta.get(key)
     if case.kind == "impact":
@@ -434,6 +434,17 @@ def _bending_lines(summaries):
             ""] + rows
 
 
+def elapsed(records):
+    """Seconds from the first start to the last end of cases that record both (case.json
+    started, finished), or None when any finished case lacks them."""
+    spans = [(r.get("started"), r.get("finished")) for r in records
+             if isinstance(r.get("wall_time"), (int, float))]
+    if not spans or not all(isinstance(a, (int, float)) and isinstance(b, (int, float))
+                            for a, b in spans):
+        return None
+    return max(b for _, b in spans) - min(a for a, _ in spans)
+
+
 def markdown(directory, summaries, claims, missing, figures, claims_bond=(), dissipation=()):
     lines = ["# WireNet study report", "", f"Study directory: `{os.path.abspath(directory)}`", "",
              "## Cases", "", "Peak forces are the largest |force| of platter.csv / block.csv; "
@@ -448,6 +459,10 @@ def markdown(directory, summaries, claims, missing, figures, claims_bond=(), dis
     if walls:
         lines += ["", f"Wall time of the cases: {sum(walls):.0f} s ({sum(walls) / 60:.1f} min) "
                       f"over {len(walls)} case(s) (each as case.json records it, whenever it ran)."]
+        span = elapsed(summaries.values())
+        if span is not None:
+            lines[-1] += (f" From the first start to the last end: {span:.0f} s ({span / 60:.1f} "
+                          "min; cases that ran side by side overlap).")
     endings = [f"- {n}: ended by {s['ended_by']}" +
                (f" at {fmt(s['first_rope_rupture']['displacement'])} m of platter travel"
                 if s.get("first_rope_rupture") else "")

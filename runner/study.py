@@ -292,8 +292,11 @@ def run_cases(loaded, out, quick, np_):
                     _write_meta(os.path.join(out, job.name), job.meta(
                         out, quick, status="failed", error=str(job.error)))
                     raise job.error
+                # start and end (Unix time): cases side by side overlap, so the study's
+                # elapsed time is the span of these, not the sum of the wall times
                 _write_meta(os.path.join(out, job.name), job.meta(
-                    out, quick, status="ok", wall_time=job.wall, **job.facts))
+                    out, quick, status="ok", wall_time=job.wall, started=job.start,
+                    finished=job.start + job.wall, **job.facts))
                 print(f"{job.prefix}: done in {job.wall:.1f} s", flush=True)
     except Interrupted:
         _stop_jobs(running, out, quick)

@@ -30,6 +30,7 @@ from pathlib import Path
 
 import bench_body   # tests/bench/bench_body.py: the timed punch, LIGGGHTS' loop times
 from bench_body import loop_times
+from postprocess import report   # the study elapsed time, as the report counts it
 
 ROOT = Path(__file__).resolve().parents[2]
 BUILD = Path(os.environ.get("WIRENET_BUILD", ROOT / "build"))
@@ -315,9 +316,10 @@ def study_table(folder):
     if folder is None or not Path(folder).is_dir():
         return ("Study wall times: no study folder (run `./wirenet run` first, or give "
                 "`--study DIR`).")
-    rows, total = [], 0.0
+    rows, total, metas = [], 0.0, []
     for meta_path in sorted(Path(folder).glob("*/case.json")):
         meta = json.loads(meta_path.read_text())
+        metas.append(meta)
         wall = meta.get("wall_time")
         timed = isinstance(wall, (int, float))
         total += wall if timed else 0.0
@@ -325,7 +327,10 @@ def study_table(folder):
                     f"{meta.get('np', '?')} | {f'{wall:.0f}' if timed else 'n/a'} |")
     return "\n".join([f"Study `{shown(folder)}` (each case as its case.json records it, whenever it ran):", "",
                       "| case | mode | status | ranks | wall time [s] |", "|---|---|---|---|---|",
-                      *rows, f"| **total** | | | | **{total:.0f}** ({total / 60:.1f} min) |"])
+                      *rows, f"| **total** | | | | **{total:.0f}** ({total / 60:.1f} min) |",
+                      *([] if report.elapsed(metas) is None else
+                        [f"| **elapsed**, first start to last end (cases side by side) | | | | "
+                         f"**{report.elapsed(metas):.0f}** ({report.elapsed(metas) / 60:.1f} min) |"])])
 
 
 def yade_table(y):

@@ -285,8 +285,13 @@ def test_cases_of_a_study_run_side_by_side(tmp_path):
     started = next(k for k, l in enumerate(lines) if l.startswith("[case 2/2] impact_hex: running"))
     first_done = next(k for k, l in enumerate(lines) if l.startswith("[case 1/2] impact_compound: done"))
     assert started < first_done, p.stdout
-    for name in ("impact_compound", "impact_hex"):
-        assert json.loads((out / name / "case.json").read_text())["np"] == 1
+    metas = [json.loads((out / name / "case.json").read_text())
+             for name in ("impact_compound", "impact_hex")]
+    assert all(m["np"] == 1 for m in metas)
+    # the report's elapsed time is the span of the overlapping cases, less than their sum
+    span = max(m["finished"] for m in metas) - min(m["started"] for m in metas)
+    assert span < sum(m["wall_time"] for m in metas)
+    assert f"From the first start to the last end: {span:.0f} s" in (out / "report.md").read_text()
     p = driver("run", "impact_square", "--quick", "--np", "2", "--out", str(out))
     assert p.returncode == 0 and "(quick, 2 ranks)" in p.stdout, p.stdout
 

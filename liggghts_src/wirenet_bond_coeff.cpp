@@ -1,6 +1,7 @@
 /* WireNet: bond_coeff parser. Grammar in doc/bond_wirenet.md. */
 
 #include "wirenet_bond_coeff.h"
+#include "wirenet_checks.h"
 
 #include <cerrno>
 #include <cmath>
@@ -23,13 +24,6 @@ Word classify(const std::string &s, double &v)
   v = std::strtod(s.c_str(), &end);
   if (!end || *end != '\0') return Word::TEXT;
   return std::isfinite(v) ? Word::NUMBER : Word::NONFINITE;
-}
-
-std::string fmt(double v)
-{
-  std::ostringstream s;
-  s << v;
-  return s.str();
 }
 
 // Walks the argument list; every accessor names what it expected when it fails.

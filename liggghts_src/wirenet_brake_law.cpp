@@ -1,28 +1,12 @@
 /* WireNet: brake law. See wirenet_brake_law.h and doc/bond_wirenet.md ("The brake law"). */
 
 #include "wirenet_brake_law.h"
+#include "wirenet_checks.h"
 
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
 
 namespace WireNet {
-
-namespace {
-
-std::string fmt(double v)
-{
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
-void require(bool ok, const std::string &msg)
-{
-  if (!ok) throw std::invalid_argument(msg);
-}
-
-}  // namespace
 
 BrakeLaw::BrakeLaw(const BrakeLawParams &p) : p_(p)
 {

@@ -1,6 +1,7 @@
 /* WireNet: tension-only elasto-plastic wire law. See wirenet_wire_law.h and doc/bond_wirenet.md. */
 
 #include "wirenet_wire_law.h"
+#include "wirenet_checks.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,18 +12,6 @@
 namespace WireNet {
 
 namespace {
-
-std::string fmt(double v)
-{
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
-void require(bool ok, const std::string &msg)
-{
-  if (!ok) throw std::invalid_argument(msg);
-}
 
 // splitmix64: a well-mixed 64-bit hash, so the slack of a bond depends only on (seed, tags).
 uint64_t mix(uint64_t z)

@@ -299,6 +299,7 @@ void BondWirenet::build_list()
         static_cast<Entry &>(w) = e;
         wires[type]->prepare(e.h, w.k);
         w.zeta = wires[type]->params().damping;  // a brake's too
+        w.law = wires[type].get();
         wire_list.push_back(w);
         continue;
       }
@@ -392,7 +393,7 @@ __attribute__((always_inline)) inline void BondWirenet::compute_wire(const WireE
   double *h = e.h;
   double tension;
   const double umax0 = h[W_UMAX], fmax0 = h[W_FMAX];
-  if (!wires[e.type]->tension(e.k, r - h[W_L0], h, tension)) {
+  if (!e.law->tension(e.k, r - h[W_L0], h, tension)) {
     double **x = atom->x;
     const double mid[3] = { x[e.i][0] + 0.5 * dx, x[e.i][1] + 0.5 * dy, x[e.i][2] + 0.5 * dz };
     // released: the elastic energy of the last state (on the envelope, at the largest elongation)
@@ -561,7 +562,7 @@ void BondWirenet::compute(int eflag, int vflag)
   plastic_work = 0.0;
   damping_work = 0.0;
   for (const WireEntry &e : wire_list) {
-    if (e.h[FixWirenetBonds::L0] < 0.0) continue;  // broken this step, awaiting removal
+    if (e.h[FixWirenetBonds::L0] < 0.0) continue;  // broken since the list was built
     const double dx = x[e.j][0] - x[e.i][0];
     const double dy = x[e.j][1] - x[e.i][1];
     const double dz = x[e.j][2] - x[e.i][2];

@@ -52,7 +52,7 @@ class BondWirenet : public Bond {
   // in lane 1: computed, not applied.
   struct Entry { int i, j, type, m; double *h; };
   // a wire bond with the constants of its envelope and damping (built with the list)
-  struct WireEntry : Entry { WireNet::WireConst k; double zeta; };
+  struct WireEntry : Entry { WireNet::WireConst k; double zeta; const WireNet::WireLaw *law; };
   struct BeamPair { WireNet::BeamConst<WireNet::Lanes> c; int i[2], j[2], m[2]; int n; };
   std::vector<WireEntry> wire_list;
   std::vector<BeamPair> beam_list;

@@ -143,13 +143,6 @@ void WireLaw::prepare(const double *h, WireConst &k) const
   k.ku = h[W_KU];
 }
 
-bool WireLaw::tension(double u, double *h, double &force) const
-{
-  WireConst k;
-  prepare(h, k);
-  return tension(k, u, h, force);
-}
-
 double WireLaw::tension_const(double u, const double *h) const
 {
   WireConst k;

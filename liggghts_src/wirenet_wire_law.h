@@ -63,7 +63,6 @@ class WireLaw {
 
   const WireLawParams &params() const { return p_; }
   double area() const { return area_; }
-  double rupture_strain() const { return rupture_strain_; }  // infinite if not breakable
   // Upper bound of (length / l0) before rupture, for the ghost cutoff (1 for a force-elongation
   // table, whose elongations do not scale with l0).
   double max_stretch() const;
@@ -76,8 +75,6 @@ class WireLaw {
   // Tension [N] at elongation u; updates the plastic state (W_UMAX, W_FMAX of h). Returns false
   // on rupture. k: prepare(h).
   inline bool tension(const WireConst &k, double u, double *h, double &force) const;
-  // The same from the record alone (derives k: for outputs and tests, not for the force loop).
-  bool tension(double u, double *h, double &force) const;
   // Tension without touching the state (output).
   double tension_const(double u, const double *h) const;
 
@@ -91,7 +88,6 @@ class WireLaw {
   double area_ = 0.0;
   std::vector<double> strain_, stress_, slope_;  // effective table (derived / slack applied)
   int elastic_point_ = 0;  // table index of the point that defines the unloading stiffness
-  double dt_kh_factor_ = 0.0;
   double rupture_strain_ = 0.0;  // last table strain, or infinity (not breakable)
 };
 

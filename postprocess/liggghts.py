@@ -1,5 +1,6 @@
 """Running the project's binaries (LIGGGHTS, wirenet-gen) from Python, with progress output."""
 
+import contextlib
 import os
 import re
 import signal
@@ -67,20 +68,14 @@ def allow_new_runs():
 _CONTEXT = threading.local()
 
 
-class labelled:
+@contextlib.contextmanager
+def labelled(name):
     """``with labelled(NAME):`` prefixes this thread's progress lines with NAME."""
-
-    def __init__(self, name):
-        self.name = name
-
-    def __enter__(self):
-        self.previous = current_label()
-        _CONTEXT.label = self.name
-        return self
-
-    def __exit__(self, *exc):
-        _CONTEXT.label = self.previous
-        return False
+    previous, _CONTEXT.label = current_label(), name
+    try:
+        yield
+    finally:
+        _CONTEXT.label = previous
 
 
 def current_label():

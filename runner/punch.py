@@ -345,9 +345,9 @@ def run_pair(setup, case_dir, np_=1):
 
     def one(name, factor):
         with liggghts.labelled(case_label):
-            two(name, factor)
+            run_one(name, factor)
 
-    def two(name, factor):
+    def run_one(name, factor):
         workdir = os.path.join(case_dir, name)
         # the comparison ends at the first rupture: the slow run stops there
         slow = factor > 1

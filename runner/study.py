@@ -221,7 +221,7 @@ class Job:
         self.thread = self.error = self.facts = None
         self.start = self.wall = 0.0
 
-    def meta(self, out, quick, **extra):
+    def meta(self, quick, **extra):
         mode = "quick" if quick else "full"
         return dict(kind=self.kind, quick=quick, mode=mode, np=self.ranks,
                     case_file=self.case.path, case_fingerprint=self.fingerprint,
@@ -290,12 +290,12 @@ def run_cases(loaded, out, quick, np_):
                     pending.clear()
                     _stop_jobs(running, out, quick)
                     _write_meta(os.path.join(out, job.name), job.meta(
-                        out, quick, status="failed", error=str(job.error)))
+                        quick, status="failed", error=str(job.error)))
                     raise job.error
                 # start and end (Unix time): cases side by side overlap, so the study's
                 # elapsed time is the span of these, not the sum of the wall times
                 _write_meta(os.path.join(out, job.name), job.meta(
-                    out, quick, status="ok", wall_time=job.wall, started=job.start,
+                    quick, status="ok", wall_time=job.wall, started=job.start,
                     finished=job.start + job.wall, **job.facts))
                 print(f"{job.prefix}: done in {job.wall:.1f} s", flush=True)
     except Interrupted:
@@ -308,7 +308,7 @@ def _launch(job, out, quick):
     case_dir = os.path.join(out, job.name)
     _fresh_case_dir(case_dir)
     # 'running' until the case returns: an interrupted or failed case is never 'ok'
-    _write_meta(case_dir, job.meta(out, quick, status="running"))
+    _write_meta(case_dir, job.meta(quick, status="running"))
     side = f", {job.ranks} rank{'s' if job.ranks > 1 else ''}"
     print(f"{job.prefix}: running ({'quick' if quick else 'full'}{side}) from "
           f"{os.path.relpath(job.case.path)}", flush=True)
@@ -322,7 +322,7 @@ def _stop_jobs(running, out, quick):
     liggghts.stop_all()
     for job in running:
         job.thread.join()
-        _write_meta(os.path.join(out, job.name), job.meta(out, quick, status="interrupted"))
+        _write_meta(os.path.join(out, job.name), job.meta(quick, status="interrupted"))
 
 
 def run(args):

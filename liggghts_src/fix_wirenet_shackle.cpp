@@ -29,7 +29,7 @@
 using namespace LAMMPS_NS;
 using namespace FixConst;
 
-static const int NHIST = 2;   // segment index, xi
+static const int NHIST = 3;   // segment index, xi, sliding at the last step (0/1)
 static const int NVECTOR = 5;
 
 FixWirenetShackle::FixWirenetShackle(LAMMPS *lmp, int narg, char **arg) :
@@ -105,7 +105,7 @@ FixWirenetShackle::FixWirenetShackle(LAMMPS *lmp, int narg, char **arg) :
   atom->add_callback(1);
   for (int i = 0; i < atom->nlocal; i++) {
     hist[i][0] = -1.0;
-    hist[i][1] = 0.0;
+    hist[i][1] = hist[i][2] = 0.0;
   }
 }
 
@@ -262,7 +262,7 @@ void FixWirenetShackle::place_new_shackles()
       }
     }
     hist[i][0] = best;
-    hist[i][1] = 0.0;
+    hist[i][1] = hist[i][2] = 0.0;
   }
 }
 
@@ -316,6 +316,9 @@ void FixWirenetShackle::shackle_forces(bool setup_pass)
     const WireNet::ShackleResult r = law->step(xs, vs, m, a, b, va, vb, loc.s, hist[i][1], dt);
     hist[i][0] = loc.seg;
     hist[i][1] = r.xi;
+    // the setup pass does not move the history: it reports the last step's sliding state
+    const bool slides = setup_pass ? hist[i][2] != 0.0 : r.sliding;
+    hist[i][2] = slides ? 1.0 : 0.0;
 
     const Eigen::Vector3d &F = r.force;
     const double wa = 1.0 - loc.s, wb = loc.s;
@@ -331,7 +334,7 @@ void FixWirenetShackle::shackle_forces(bool setup_pass)
     work += r.slip_work;
     damp_work += r.damping_work;
     elastic += r.elastic;
-    if (r.sliding) sliding++;
+    if (slides) sliding++;
     const double fn = F.norm();
     if (fn > fmax) fmax = fn;
   }
@@ -399,29 +402,25 @@ void FixWirenetShackle::grow_arrays(int nmax)
 
 void FixWirenetShackle::copy_arrays(int i, int j, int)
 {
-  hist[j][0] = hist[i][0];
-  hist[j][1] = hist[i][1];
+  for (int k = 0; k < NHIST; k++) hist[j][k] = hist[i][k];
 }
 
 int FixWirenetShackle::pack_exchange(int i, double *buf)
 {
-  buf[0] = hist[i][0];
-  buf[1] = hist[i][1];
+  for (int k = 0; k < NHIST; k++) buf[k] = hist[i][k];
   return NHIST;
 }
 
 int FixWirenetShackle::unpack_exchange(int i, double *buf)
 {
-  hist[i][0] = buf[0];
-  hist[i][1] = buf[1];
+  for (int k = 0; k < NHIST; k++) hist[i][k] = buf[k];
   return NHIST;
 }
 
 int FixWirenetShackle::pack_restart(int i, double *buf)
 {
   buf[0] = 1 + NHIST;
-  buf[1] = hist[i][0];
-  buf[2] = hist[i][1];
+  for (int k = 0; k < NHIST; k++) buf[1 + k] = hist[i][k];
   return 1 + NHIST;
 }
 
@@ -432,8 +431,7 @@ void FixWirenetShackle::unpack_restart(int nlocal, int nth)
   for (int k = 0; k < nth; k++) m += static_cast<int>(extra[nlocal][m]);
   if (static_cast<int>(extra[nlocal][m]) != 1 + NHIST)
     error->one(FLERR, "fix wirenet/shackle: the restart file's shackle history has the wrong size");
-  hist[nlocal][0] = extra[nlocal][m + 1];
-  hist[nlocal][1] = extra[nlocal][m + 2];
+  for (int k = 0; k < NHIST; k++) hist[nlocal][k] = extra[nlocal][m + 1 + k];
 }
 
 int FixWirenetShackle::size_restart(int) { return 1 + NHIST; }

@@ -61,7 +61,8 @@ class FixWirenetShackle : public Fix {
   std::vector<Rope> ropes;
   std::vector<Shackle> shackles;
 
-  // per atom (only shackle atoms use them): [0] segment index k (-1: not placed yet), [1] xi
+  // per atom (only shackle atoms use them): [0] segment index k (-1: not placed yet), [1] xi,
+  // [2] 1 if it slid at the last step (what the setup pass reports)
   double **hist;
   // forces on ghost rope atoms, 3 per atom, zero outside post_force (reverse communication)
   std::vector<double> fghost;

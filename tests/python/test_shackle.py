@@ -14,14 +14,21 @@ N from the first step (no normal oscillation) and the friction cap is mu N. Anal
          across the segment boundaries too; friction work = mu N (travel - mu N/kt), the slip;
   pulled at constant velocity: the force along the rope rises with slope kt to mu N and stays
          there; reversed, it crosses to +mu N over the travel 2 mu N/kt;
-  free rope, no external force: total momentum conserved to round-off;
+  free rope, no external force: total momentum conserved to round-off (1 and 2 ranks);
+  damping ZETA: the normal swing decays as a damped oscillator, its work is the energy lost;
   1 and 2 MPI ranks (rope and slide across the rank boundary) and a restart mid-slide agree with
   the serial, uninterrupted run to round-off.
 
-Mutations checked by hand when the tests were written (each made a test here fail, then undone):
-the cap dropped (no Coulomb limit: slide and plateau fail), the friction force's sign flipped
-(stick and slide fail), the reverse communication of ghost forces skipped (the 2-rank trajectory
-differs at 1e-4), the setup pass moving the history (restart continues differently).
+Mutations checked by hand when the tests were written (2026-11-23; each made the tests named
+fail, then was undone):
+  friction cap dropped (no Coulomb limit)      -> slide, end stop, plateau, 1 vs 2 ranks, restart
+  friction force's sign flipped                -> stick, slide, plateau, 1 vs 2 ranks
+  (1-s, s) split of the reaction swapped       -> stick
+  no walk to the next segment                  -> slide, 1 vs 2 ranks
+  reverse communication of ghost forces skipped -> momentum on 2 ranks, 1 vs 2 ranks
+  setup pass moving the history (xi += v dt)   -> restart (1 and 2 ranks)
+  xi not carried by pack/unpack_exchange       -> 1 vs 2 ranks, restart on 2 ranks
+  xi not restored by unpack_restart            -> restart (1 and 2 ranks)
 """
 
 import math
@@ -210,6 +217,34 @@ def test_pulled_at_constant_velocity_plateau_is_mu_n(tmp_path):
     dw = np.diff(w)
     np.testing.assert_allclose(dw[np.flatnonzero(plateau[1:] & plateau[:-1])], cap * V * DT, rtol=1e-6)
     assert np.all(dw[np.flatnonzero(stick[1:] & stick[:-1])] == 0.0)
+
+
+# ---- damping across the rope ------------------------------------------------------------------
+
+def test_normal_damping_decays_at_its_fraction_of_critical(tmp_path):
+    """`damping ZETA`: S released at twice its equilibrium offset swings about it as a damped
+    oscillator of kn and m: successive maxima of the offset shrink by exp(-2 pi ZETA / sqrt(1 -
+    ZETA^2)); the damping work [5] is the mechanical energy lost (spring, load and kinetic)."""
+    zeta = 0.05
+    write_setup(tmp_path, 0.07, y_s=-2 * OFFSET)
+    deck = head(coeffs=f"kn {KN!r} kt {KT!r} mu {MU!r} damping {zeta!r}") + \
+        f"fix integ S nve/sphere\nfix load S addforce 0 {-N_LOAD!r} 0\nvariable vy equal vy[6]\nvariable wd equal f_sh[5]\n" + \
+        monitor().replace("thermo_style custom step", "thermo_style custom step v_vy v_wd") + "run 3000\n"
+    rows = rows_by_step(lmp.run_deck(deck, tmp_path))
+    u = col(rows, "ys") + OFFSET            # displacement from equilibrium
+    peaks = [k for k in range(1, len(u) - 1) if u[k] < u[k - 1] and u[k] <= u[k + 1]]
+    assert len(peaks) >= 4
+    ratio = u[peaks[1:4]] / u[peaks[0:3]]
+    # measured 1.4e-4 off: Verlet's period error (w dt)^2 / 24 and the sampling of the minima
+    np.testing.assert_allclose(ratio, math.exp(-2 * math.pi * zeta / math.sqrt(1 - zeta ** 2)), rtol=2e-3)
+    # energy: the kinetic energy at the half steps is where Verlet's budget closes only to O(dt^2)
+    vy, y = col(rows, "vy"), col(rows, "ys")
+    energy = 0.5 * M_S * vy ** 2 + 0.5 * KN * y ** 2 + N_LOAD * y
+    wd = col(rows, "wd")
+    lost = energy[0] - energy[-1]
+    assert lost > 0.9 * (energy[0] - energy.min())
+    assert wd[-1] == pytest.approx(lost, rel=1e-4)   # measured 3.5e-6
+    assert col(rows, "nsl").max() == 0      # nothing moved it along the rope
 
 
 # ---- 4. momentum ------------------------------------------------------------------------------

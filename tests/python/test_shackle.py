@@ -417,3 +417,15 @@ def test_rope_out_of_ghost_reach_names_the_shackle(tmp_path):
     (tmp_path / "rope.shackles").write_text("ropes 1\nR1 2 1 2\nshackles 1\n3 R1\n")
     rc, out = lmp.run_deck_rc("processors 2 1 1\n" + bad_deck(f"file rope.shackles {GOOD}"), tmp_path, np=2)
     check_error(rc, out, "shackle atom 3: the rope atoms of its segment are not within the ghost cutoff")
+
+
+def test_warns_when_damping_comes_first(tmp_path):
+    """The decks damp every internal force with fix wirenet/damping, defined after the forces."""
+    write_setup(tmp_path, 0.07)
+    deck = lmp.PREAMBLE + f"read_data rope.data\nfix damp all wirenet/damping 0.5\n" \
+        f"fix sh all wirenet/shackle file rope.shackles {GOOD}\nrun 1\n"
+    out = lmp.run_deck(deck, tmp_path)
+    assert "WARNING: fix wirenet/shackle: fix damp (wirenet/damping) comes earlier" in out
+    deck = lmp.PREAMBLE + f"read_data rope.data\nfix sh all wirenet/shackle file rope.shackles {GOOD}\n" \
+        "fix damp all wirenet/damping 0.5\nrun 1\n"
+    assert "WARNING" not in lmp.run_deck(deck, tmp_path)

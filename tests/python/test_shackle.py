@@ -29,6 +29,7 @@ fail, then was undone):
   setup pass moving the history (xi += v dt)   -> restart (1 and 2 ranks)
   xi not carried by pack/unpack_exchange       -> 1 vs 2 ranks, restart on 2 ranks
   xi not restored by unpack_restart            -> restart (1 and 2 ranks)
+  offset always projected across the segment   -> convex vertex and end, end stop
 """
 
 import math
@@ -185,6 +186,44 @@ def test_shackle_stops_at_the_rope_end(tmp_path):
     assert max(col(rows, "xs")) <= end + 2 * (P + cap) / KN
     assert last["fx5"] == pytest.approx(P, rel=1e-6) and last["fy5"] == pytest.approx(-N_LOAD, rel=1e-6)
     assert last["fx4"] == 0.0 and last["fy4"] == 0.0
+
+
+# ---- geometry: convex vertex and rope end ------------------------------------------------------
+
+def test_convex_vertex_and_rope_end_clamp_to_the_atom(tmp_path):
+    """A rope bent by 30 degrees at atom 2 and three shackles held still (setup pass, no history):
+    one in the wedge outside the bend (closest point: the vertex), one beyond the rope's end
+    (closest point: the end atom), one inside segment 1. F = -kn (S - P) on each, and the whole
+    reaction on the vertex / end atom, (1-s, s) inside the segment."""
+    th = math.radians(30.0)
+    r = [np.array([-0.1, 0.0, 0.0]), np.zeros(3), np.array([0.1 * math.cos(th), 0.1 * math.sin(th), 0.0])]
+    t2 = (r[2] - r[1]) / 0.1
+    n2 = np.array([t2[1], -t2[0], 0.0])                          # right of segment 2
+    bis = (np.array([0.0, -1.0, 0.0]) + n2) / np.linalg.norm(np.array([0.0, -1.0, 0.0]) + n2)
+    s_wedge = r[1] + 0.002 * bis
+    s_end = r[2] + 0.003 * t2 + 0.001 * n2
+    s_mid = np.array([-0.06, 0.001, 0.0])
+    atoms = [(k + 1, 1, *map(float, r[k]), 0.01, RHO, 1) for k in range(3)]
+    atoms += [(4 + k, 1, *map(float, p), D_S, RHO, 1) for k, p in enumerate((s_wedge, s_end, s_mid))]
+    lmp.write_data(tmp_path / "rope.data", atoms, [], nbond_types=0)
+    (tmp_path / "rope.shackles").write_text("ropes 1\nbent 3 1 2 3\nshackles 3\n4 bent\n5 bent\n6 bent\n")
+    names = [f"f{c}{k}" for k in range(1, 7) for c in "xyz"]
+    deck = lmp.PREAMBLE + f"read_data rope.data\nfix sh all wirenet/shackle file rope.shackles {GOOD}\n" + \
+        "".join(f"variable f{c}{k} equal f{c}[{k}]\n" for k in range(1, 7) for c in "xyz") + \
+        "variable el equal f_sh[2]\nthermo_style custom step " + " ".join(f"v_{n}" for n in names) + \
+        " v_el\nthermo_modify format float %.17g\nrun 0\n"
+    row = rows_by_step(lmp.run_deck(deck, tmp_path))[-1]
+    f = {k: np.array([row[f"f{c}{k}"] for c in "xyz"]) for k in range(1, 7)}
+    F_wedge, F_end = -KN * (s_wedge - r[1]), -KN * (s_end - r[2])
+    F_mid = np.array([0.0, -KN * 0.001, 0.0])
+    np.testing.assert_allclose(f[4], F_wedge, rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(f[5], F_end, rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(f[6], F_mid, rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(f[1], -0.6 * F_mid, rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(f[2], -F_wedge - 0.4 * F_mid, rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(f[3], -F_end, rtol=1e-9, atol=1e-9)
+    d2 = sum(float(np.dot(x, x)) for x in (s_wedge - r[1], s_end - r[2], np.array([0, 0.001, 0])))
+    assert row["el"] == pytest.approx(0.5 * KN * d2, rel=1e-9)
 
 
 # ---- 3. pulled at constant velocity -----------------------------------------------------------

@@ -205,6 +205,73 @@ void FixWirenetShackle::init()
 
 /* ------------------------------------------------------------------------------------------- */
 
+// Positions of every rope atom, ropes one after the other (rope r from first[r]), from every rank.
+// Collective.
+std::vector<double> FixWirenetShackle::gather_ropes(std::vector<size_t> &first)
+{
+  size_t total = 0;
+  first.clear();
+  for (const auto &r : ropes) {
+    first.push_back(total);
+    total += r.tags.size();
+  }
+  std::vector<double> mine(3 * total, 0.0), all(3 * total, 0.0);
+  double **x = atom->x;
+  const int nlocal = atom->nlocal;
+  for (size_t r = 0; r < ropes.size(); r++)
+    for (size_t m = 0; m < ropes[r].tags.size(); m++) {
+      const int j = atom->map(ropes[r].tags[m]);
+      if (j < 0 || j >= nlocal) continue;
+      for (int d = 0; d < 3; d++) mine[3 * (first[r] + m) + d] = x[j][d];
+    }
+  if (total) MPI_Allreduce(mine.data(), all.data(), (int)(3 * total), MPI_DOUBLE, MPI_SUM, world);
+  return all;
+}
+
+// The segment of the rope (nseg segments, positions rp) nearest to x (the first of equals), and
+// the squared distance to it.
+int FixWirenetShackle::nearest_segment(const double *x, const double *rp, int nseg, double &d2min)
+{
+  const Eigen::Vector3d xs(x[0], x[1], x[2]);
+  int best = 0;
+  d2min = INFINITY;
+  for (int k = 0; k < nseg; k++) {
+    const Eigen::Vector3d a(rp + 3 * k), b(rp + 3 * k + 3);
+    double s = WireNet::ShackleLaw::param(xs, a, b);
+    s = s < 0.0 ? 0.0 : (s > 1.0 ? 1.0 : s);
+    const double d2 = (xs - (a + s * (b - a))).squaredNorm();
+    if (d2 < d2min) {
+      d2min = d2;
+      best = k;
+    }
+  }
+  return best;
+}
+
+// The reach a shackle needs of the ghost atoms now: the longest rope segment plus the largest
+// distance of a shackle from its rope. Collective; for the error message only.
+double FixWirenetShackle::needed_reach()
+{
+  std::vector<size_t> first;
+  const std::vector<double> all = gather_ropes(first);
+  double longest = 0.0;
+  for (size_t r = 0; r < ropes.size(); r++)
+    for (size_t m = 0; m + 1 < ropes[r].tags.size(); m++) {
+      const Eigen::Vector3d a(&all[3 * (first[r] + m)]), b(&all[3 * (first[r] + m + 1)]);
+      longest = std::max(longest, (b - a).norm());
+    }
+  double offset = 0.0, offset_all = 0.0;
+  for (const auto &sh : shackles) {
+    const int i = atom->map(sh.tag);
+    if (i < 0 || i >= atom->nlocal) continue;
+    double d2;
+    nearest_segment(atom->x[i], &all[3 * first[sh.rope]], (int)ropes[sh.rope].tags.size() - 1, d2);
+    offset = std::max(offset, std::sqrt(d2));
+  }
+  MPI_Allreduce(&offset, &offset_all, 1, MPI_DOUBLE, MPI_MAX, world);
+  return longest + offset_all;
+}
+
 // Shackles not placed yet (a new fix; not after read_restart) go to the nearest segment of their
 // rope: the rope's positions are gathered from every rank once.
 void FixWirenetShackle::place_new_shackles()
@@ -227,40 +294,14 @@ void FixWirenetShackle::place_new_shackles()
   }
   if (!any[0]) return;
 
-  size_t total = 0;
   std::vector<size_t> first;
-  for (const auto &r : ropes) {
-    first.push_back(total);
-    total += r.tags.size();
-  }
-  std::vector<double> mine(3 * total, 0.0), all(3 * total, 0.0);
+  const std::vector<double> all = gather_ropes(first);
   double **x = atom->x;
-  for (size_t r = 0; r < ropes.size(); r++)
-    for (size_t m = 0; m < ropes[r].tags.size(); m++) {
-      const int j = atom->map(ropes[r].tags[m]);
-      if (j < 0 || j >= nlocal) continue;
-      for (int d = 0; d < 3; d++) mine[3 * (first[r] + m) + d] = x[j][d];
-    }
-  MPI_Allreduce(mine.data(), all.data(), (int)(3 * total), MPI_DOUBLE, MPI_SUM, world);
-
   for (const auto &sh : shackles) {
     const int i = atom->map(sh.tag);
     if (i < 0 || i >= nlocal || hist[i][0] >= 0.0) continue;
-    const Eigen::Vector3d xs(x[i][0], x[i][1], x[i][2]);
-    const double *rp = &all[3 * first[sh.rope]];
-    const int nseg = (int)ropes[sh.rope].tags.size() - 1;
-    int best = 0;
-    double best_d2 = INFINITY;
-    for (int k = 0; k < nseg; k++) {
-      const Eigen::Vector3d a(rp + 3 * k), b(rp + 3 * k + 3);
-      double s = WireNet::ShackleLaw::param(xs, a, b);
-      s = s < 0.0 ? 0.0 : (s > 1.0 ? 1.0 : s);
-      const double d2 = (xs - (a + s * (b - a))).squaredNorm();
-      if (d2 < best_d2) {
-        best_d2 = d2;
-        best = k;
-      }
-    }
+    double d2;
+    const int best = nearest_segment(x[i], &all[3 * first[sh.rope]], (int)ropes[sh.rope].tags.size() - 1, d2);
     hist[i][0] = best;
     hist[i][1] = hist[i][2] = 0.0;
   }
@@ -344,13 +385,14 @@ void FixWirenetShackle::shackle_forces(bool setup_pass)
   int flags[2] = { ghost_touched, missing }, any[2];
   MPI_Allreduce(flags, any, 2, MPI_INT, MPI_MAX, world);
   if (any[1]) {
-    char msg[640];
+    const double reach = needed_reach();
+    char msg[768];
     snprintf(msg, sizeof msg,
              "fix wirenet/shackle: shackle atom %d: the rope atoms of its segment are not within the "
              "ghost cutoff at step " BIGINT_FORMAT " (raise it with 'communicate single cutoff C': "
              "node spheres get ghosts within C/2 + skin/2 + radius, so give C above twice the longest "
-             "rope segment plus the largest shackle offset)",
-             any[1], update->ntimestep);
+             "rope segment plus the largest shackle offset, now 2 x %g m)",
+             any[1], update->ntimestep, reach);
     error->all(FLERR, msg);
   }
   if (any[0]) {

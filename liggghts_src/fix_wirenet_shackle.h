@@ -76,6 +76,9 @@ class FixWirenetShackle : public Fix {
   void read_file(const char *);
   void check_atoms_exist();
   void place_new_shackles();
+  std::vector<double> gather_ropes(std::vector<size_t> &first);
+  static int nearest_segment(const double *x, const double *rp, int nseg, double &d2min);
+  double needed_reach();
   void shackle_forces(bool setup_pass);
   void reduce();
 };

@@ -455,7 +455,8 @@ def test_rope_out_of_ghost_reach_names_the_shackle(tmp_path):
     lmp.write_data(tmp_path / "rope.data", atoms, [], nbond_types=0)
     (tmp_path / "rope.shackles").write_text("ropes 1\nR1 2 1 2\nshackles 1\n3 R1\n")
     rc, out = lmp.run_deck_rc("processors 2 1 1\n" + bad_deck(f"file rope.shackles {GOOD}"), tmp_path, np=2)
-    check_error(rc, out, "shackle atom 3: the rope atoms of its segment are not within the ghost cutoff")
+    line = check_error(rc, out, "shackle atom 3: the rope atoms of its segment are not within the ghost cutoff")
+    assert "now 2 x 0.401 m" in line   # segment 0.4 m, offset 1 mm
 
 
 def test_warns_when_damping_comes_first(tmp_path):

@@ -340,8 +340,11 @@ void FixWirenetShackle::shackle_forces(bool setup_pass)
     const int n = (int)tags.size();
     auto index = [&](int m) { return domain->closest_image(i, atom->map(tags[m])); };
     const Eigen::Vector3d xs(x[i][0], x[i][1], x[i][2]);
+    // placed at setup (a restart's segment checked there); the guard keeps the walk on the rope
+    int seg0 = (int)hist[i][0];
+    if (seg0 < 0 || seg0 > n - 2) seg0 = 0;
     const WireNet::ShackleLocation loc = WireNet::ShackleLaw::locate(
-      xs, (int)hist[i][0], n, [&](int m) -> const double * {
+      xs, seg0, n, [&](int m) -> const double * {
         const int j = index(m);
         return j < 0 ? NULL : x[j];
       });
@@ -380,8 +383,8 @@ void FixWirenetShackle::shackle_forces(bool setup_pass)
     if (fn > fmax) fmax = fn;
   }
 
-  // one collective per step: whether any rank has forces for ghosts, and the first shackle whose
-  // rope atoms were out of reach
+  // one collective per step: whether any rank has forces for ghosts, and the largest ID of a
+  // shackle whose rope atoms were out of reach (the one the error names)
   int flags[2] = { ghost_touched, missing }, any[2];
   MPI_Allreduce(flags, any, 2, MPI_INT, MPI_MAX, world);
   if (any[1]) {

@@ -29,16 +29,16 @@
 using namespace LAMMPS_NS;
 using namespace FixConst;
 
-static const int NHIST = 3;   // segment index, xi, sliding at the last step (0/1)
+static const int NHIST = 4;   // segment index, xi, sliding at the last step (0/1), rest offset
 static const int NVECTOR = 5;
 
 FixWirenetShackle::FixWirenetShackle(LAMMPS *lmp, int narg, char **arg) :
-  Fix(lmp, narg, arg), hist(NULL), elastic_mine(0.0), sliding_mine(0), fmax_mine(0.0)
+  Fix(lmp, narg, arg), rest_initial(false), hist(NULL), elastic_mine(0.0), sliding_mine(0), fmax_mine(0.0)
 {
   work_mine[0] = work_mine[1] = 0.0;
   for (int k = 0; k < NVECTOR; k++) sums[k] = 0.0;
 
-  // fix ID GROUP wirenet/shackle file PATH kn KN kt KT mu MU [damping ZETA]
+  // fix ID GROUP wirenet/shackle file PATH kn KN kt KT mu MU [damping ZETA] [rest zero|initial]
   WireNet::ShackleLawParams p;
   bool have_kn = false, have_kt = false, have_mu = false;
   const char *file = NULL;
@@ -61,8 +61,15 @@ FixWirenetShackle::FixWirenetShackle(LAMMPS *lmp, int narg, char **arg) :
         have_mu = true;
       } else if (key == "damping") {
         p.damping = WireNet::FixArgs::value(narg, arg, k, "damping", 0.0, false);
+      } else if (key == "rest") {
+        if (k + 1 >= narg) throw std::invalid_argument("'rest' needs a value: zero or initial");
+        const std::string v = arg[k + 1];
+        if (v != "zero" && v != "initial")
+          throw std::invalid_argument("rest must be zero or initial (got '" + v + "')");
+        rest_initial = v == "initial";
+        k += 2;
       } else {
-        throw std::invalid_argument("unknown keyword '" + key + "' (expected file, kn, kt, mu, damping)");
+        throw std::invalid_argument("unknown keyword '" + key + "' (expected file, kn, kt, mu, damping, rest)");
       }
     }
     if (!file) throw std::invalid_argument("missing keyword 'file PATH'");
@@ -105,7 +112,7 @@ FixWirenetShackle::FixWirenetShackle(LAMMPS *lmp, int narg, char **arg) :
   atom->add_callback(1);
   for (int i = 0; i < atom->nlocal; i++) {
     hist[i][0] = -1.0;
-    hist[i][1] = hist[i][2] = 0.0;
+    hist[i][1] = hist[i][2] = hist[i][3] = 0.0;
   }
 }
 
@@ -304,6 +311,7 @@ void FixWirenetShackle::place_new_shackles()
     const int best = nearest_segment(x[i], &all[3 * first[sh.rope]], (int)ropes[sh.rope].tags.size() - 1, d2);
     hist[i][0] = best;
     hist[i][1] = hist[i][2] = 0.0;
+    hist[i][3] = rest_initial ? std::sqrt(d2) : 0.0;   // the link's length: the offset now
   }
 }
 
@@ -357,7 +365,7 @@ void FixWirenetShackle::shackle_forces(bool setup_pass)
     const Eigen::Vector3d vs(v[i][0], v[i][1], v[i][2]);
     const Eigen::Vector3d va(v[ja][0], v[ja][1], v[ja][2]), vb(v[jb][0], v[jb][1], v[jb][2]);
     const double m = rmass ? rmass[i] : mass[type[i]];
-    const WireNet::ShackleResult r = law->step(xs, vs, m, a, b, va, vb, loc.s, hist[i][1], dt);
+    const WireNet::ShackleResult r = law->step(xs, vs, m, a, b, va, vb, loc.s, hist[i][1], hist[i][3], dt);
     hist[i][0] = loc.seg;
     hist[i][1] = r.xi;
     // the setup pass does not move the history: it reports the last step's sliding state

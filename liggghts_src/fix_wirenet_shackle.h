@@ -50,6 +50,7 @@ class FixWirenetShackle : public Fix {
  private:
   std::unique_ptr<WireNet::ShackleLaw> law;
   std::string path;
+  bool rest_initial;         // `rest initial`: each shackle's offset when placed is its link's length
   struct Rope {
     std::string id;
     std::vector<int> tags;   // atom IDs along the rope
@@ -62,7 +63,7 @@ class FixWirenetShackle : public Fix {
   std::vector<Shackle> shackles;
 
   // per atom (only shackle atoms use them): [0] segment index k (-1: not placed yet), [1] xi,
-  // [2] 1 if it slid at the last step (what the setup pass reports)
+  // [2] 1 if it slid at the last step (what the setup pass reports), [3] rest offset r0 (m)
   double **hist;
   // forces on ghost rope atoms, 3 per atom, zero outside post_force (reverse communication)
   std::vector<double> fghost;

@@ -20,7 +20,7 @@ ShackleLaw::ShackleLaw(const ShackleLawParams &p) : p_(p)
 ShackleResult ShackleLaw::step(const Eigen::Vector3d &x, const Eigen::Vector3d &v, double m,
                                const Eigen::Vector3d &a, const Eigen::Vector3d &b,
                                const Eigen::Vector3d &va, const Eigen::Vector3d &vb,
-                               double s, double xi, double dt) const
+                               double s, double xi, double rest, double dt) const
 {
   ShackleResult r;
   const Eigen::Vector3d e = b - a;
@@ -32,13 +32,17 @@ ShackleResult ShackleLaw::step(const Eigen::Vector3d &x, const Eigen::Vector3d &
   Eigen::Vector3d d = x - (a + s * e);
   if (s > 0.0 && s < 1.0) d -= d.dot(t) * t;
   const double dn = d.norm();
-  const double fn = p_.kn * dn;  // elastic holding force: the friction's normal force
+  // the link holds in tension only: slack while the node is within its rest offset of the rope
+  const double stretch = dn - rest;
+  const bool engaged = rest <= 0.0 || stretch > 0.0;
+  const double fn = engaged ? p_.kn * stretch : 0.0;  // elastic holding force: the friction's normal force
 
   const Eigen::Vector3d vrel = v - ((1.0 - s) * va + s * vb);
   const double vt = vrel.dot(t);
 
-  r.force = -p_.kn * d;
-  if (p_.damping > 0.0) {
+  if (rest <= 0.0) r.force = -p_.kn * d;
+  else if (engaged) r.force = -(fn / dn) * d;
+  if (engaged && p_.damping > 0.0) {
     const double c = 2.0 * p_.damping * std::sqrt(p_.kn * m);
     const Eigen::Vector3d vperp = vrel - vt * t;
     r.force -= c * vperp;
@@ -55,7 +59,7 @@ ShackleResult ShackleLaw::step(const Eigen::Vector3d &x, const Eigen::Vector3d &
     r.slip_work = cap * std::fabs(trial - xi_new);
   }
   r.force -= p_.kt * xi_new * t;
-  r.elastic = 0.5 * p_.kn * dn * dn + 0.5 * p_.kt * xi_new * xi_new;
+  r.elastic = 0.5 * fn * fn / p_.kn + 0.5 * p_.kt * xi_new * xi_new;
   if (dt > 0.0) {
     r.xi = xi_new;
   } else {  // setup pass: the history stays as it is

@@ -11,12 +11,14 @@
      - at the rope's ends P is clamped to the end atom: the shackle stops there.
    Force on S (the rope atoms get -(1-s) F on R_k and -s F on R_k+1):
      normal   F_n = -kn d, d = S - P (perpendicular to the segment inside it; at a clamped vertex
-              or end the whole offset, whose component along the rope is the end stop)
+              or end the whole offset, whose component along the rope is the end stop); with a
+              rest offset r0 > 0 (the link's length) F_n = -kn (|d| - r0) d/|d| in tension only,
+              nothing (no friction, no damping) while |d| <= r0
               - c v_perp with c = 2 zeta sqrt(kn m_S) (optional viscous damping of the relative
               velocity across the rope)
-     tangent  xi += (v_S - v_P).t dt, F_t = -kt xi t, |kt xi| <= mu kn |d| (Coulomb, on the elastic
+     tangent  xi += (v_S - v_P).t dt, F_t = -kt xi t, |kt xi| <= mu |F_n| (Coulomb, on the elastic
               normal force); when capped xi is set back to the cap and the slip work
-              mu kn |d| |dxi| is dissipated. */
+              mu |F_n| |dxi| is dissipated. */
 
 #ifndef WIRENET_SHACKLE_LAW_H
 #define WIRENET_SHACKLE_LAW_H
@@ -108,13 +110,14 @@ class ShackleLaw {
   }
 
   // One step. x/v/m: the shackle's position, velocity, mass; a, b, va, vb: the segment's ends and
-  // their velocities; s: the location on it; xi: the tangential history; dt: the time step, or 0 to
+  // their velocities; s: the location on it; xi: the tangential history; rest: the link's rest
+  // offset r0 (0: the spring pulls S onto the rope); dt: the time step, or 0 to
   // evaluate the force without moving the history (LIGGGHTS' setup pass): then the force is capped
   // but neither xi nor the slip work changes.
   ShackleResult step(const Eigen::Vector3d &x, const Eigen::Vector3d &v, double m,
                      const Eigen::Vector3d &a, const Eigen::Vector3d &b,
                      const Eigen::Vector3d &va, const Eigen::Vector3d &vb,
-                     double s, double xi, double dt) const;
+                     double s, double xi, double rest, double dt) const;
 
  private:
   ShackleLawParams p_;

@@ -258,6 +258,42 @@ def test_pulled_at_constant_velocity_plateau_is_mu_n(tmp_path):
     assert np.all(dw[np.flatnonzero(stick[1:] & stick[:-1])] == 0.0)
 
 
+# ---- rest offset: a link of finite length ------------------------------------------------------
+
+def test_rest_initial_is_a_tension_only_link_of_the_initial_offset(tmp_path):
+    """`rest initial`: S placed G = 50 mm from the rope (as wirenet-gen fence hangs the net) feels
+    nothing there; moved towards the rope the link is slack (no force, no friction); moved out
+    beyond G it pulls back with kn (|d| - G) and, sliding along the rope at the same time, the
+    friction is mu times that."""
+    G, V, W, n = 0.05, 0.5, 0.01, 500
+    write_setup(tmp_path, 0.03, y_s=-G)
+    deck = head(coeffs=f"kn {KN!r} kt {KT!r} mu {MU!r} rest initial") + \
+        f"fix in S move linear {V!r} {W!r} 0\n" + monitor() + f"run {n}\nunfix in\n" + \
+        f"fix out S move linear {V!r} {-W!r} 0\nrun {3 * n}\n"
+    rows = rows_by_step(lmp.run_deck(deck, tmp_path))
+    y, fx, fy = col(rows, "ys"), col(rows, "fxs"), col(rows, "fys")
+    stretch = -y - G
+    slack = stretch < -1e-12
+    taut = stretch > 1e-12
+    assert slack.sum() > 900 and taut.sum() > 900
+    assert np.all(fx[slack] == 0.0) and np.all(fy[slack] == 0.0) and np.all(col(rows, "el")[slack] == 0.0)
+    np.testing.assert_allclose(fy[taut], KN * stretch[taut], rtol=1e-9)
+    np.testing.assert_allclose(fx[taut], -MU * fy[taut], rtol=1e-9)   # sliding: kt V >> mu kn W
+    np.testing.assert_allclose(col(rows, "el")[taut],
+                               0.5 * fy[taut] ** 2 / KN + 0.5 * (MU * fy[taut]) ** 2 / KT, rtol=1e-9)
+    w = col(rows, "w")
+    assert np.all(w[slack] == 0.0)
+    # friction work per step: the cap times the slip, the travel V dt less the stick spring's growth
+    # as the cap rises, mu F_n (V dt - (mu F_n - mu F_n,prev) / kt)
+    k = np.flatnonzero(taut[1:] & taut[:-1]) + 1
+    cap = MU * fy
+    np.testing.assert_allclose(np.diff(w)[k - 1], cap[k] * (V * DT - (cap[k] - cap[k - 1]) / KT), rtol=1e-6)
+    # the rope carries -F
+    last = rows[-1]
+    assert sum(last[f"fy{j}"] for j in range(1, 6)) == pytest.approx(-last["fys"], rel=1e-12)
+    assert sum(last[f"fx{j}"] for j in range(1, 6)) == pytest.approx(-last["fxs"], rel=1e-12)
+
+
 # ---- damping across the rope ------------------------------------------------------------------
 
 def test_normal_damping_decays_at_its_fraction_of_critical(tmp_path):
@@ -392,6 +428,8 @@ BAD_ARGS = {
     "mu inf": ("file rope.shackles kn 1 kt 1 mu inf", "mu must be a finite number (got 'inf')"),
     "kt no value": ("file rope.shackles kn 1 mu 0.3 kt", "'kt' needs a value"),
     "damping negative": (f"file rope.shackles {GOOD} damping -1", "damping must be >= 0 (got -1)"),
+    "rest unknown": (f"file rope.shackles {GOOD} rest maybe", "rest must be zero or initial (got 'maybe')"),
+    "rest no value": (f"file rope.shackles {GOOD} rest", "'rest' needs a value: zero or initial"),
     "unreadable file": (f"file nowhere.shackles {GOOD}", "cannot read the shackle file 'nowhere.shackles'"),
 }
 

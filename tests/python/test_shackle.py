@@ -16,6 +16,7 @@ N from the first step (no normal oscillation) and the friction cap is mu N. Anal
          there; reversed, it crosses to +mu N over the travel 2 mu N/kt;
   free rope, no external force: total momentum conserved to round-off (1 and 2 ranks);
   damping ZETA: the normal swing decays as a damped oscillator, its work is the energy lost;
+  rest initial: a tension-only link of the initial offset (slack inside it, kn (|d| - r0) beyond);
   1 and 2 MPI ranks (rope and slide across the rank boundary) and a restart mid-slide agree with
   the serial, uninterrupted run to round-off.
 
@@ -30,6 +31,7 @@ fail, then was undone):
   xi not carried by pack/unpack_exchange       -> 1 vs 2 ranks, restart on 2 ranks
   xi not restored by unpack_restart            -> restart (1 and 2 ranks)
   offset always projected across the segment   -> convex vertex and end, end stop
+  rest-offset link two-sided (pushes when slack) -> rest initial
 """
 
 import math

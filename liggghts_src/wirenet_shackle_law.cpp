@@ -55,7 +55,7 @@ ShackleResult ShackleLaw::step(const Eigen::Vector3d &x, const Eigen::Vector3d &
   double xi_new = trial;
   if (p_.kt * std::fabs(trial) > cap) {
     xi_new = std::copysign(cap / p_.kt, trial);
-    r.sliding = true;
+    r.sliding = cap > 0.0;   // a slack link (no holding force) moves freely: not counted
     r.slip_work = cap * std::fabs(trial - xi_new);
   }
   r.force -= p_.kt * xi_new * t;

@@ -48,7 +48,7 @@ struct ShackleResult {
   double slip_work = 0.0;     // friction work dissipated this step [J]
   double damping_work = 0.0;  // work dissipated by the normal damping this step [J]
   double elastic = 0.0;       // 0.5 kn |d|^2 + 0.5 kt xi^2 [J]
-  bool sliding = false;       // the friction cap was reached
+  bool sliding = false;       // the friction cap was reached under a holding force > 0
 };
 
 class ShackleLaw {

@@ -279,6 +279,8 @@ def test_rest_initial_is_a_tension_only_link_of_the_initial_offset(tmp_path):
     taut = stretch > 1e-12
     assert slack.sum() > 900 and taut.sum() > 900
     assert np.all(fx[slack] == 0.0) and np.all(fy[slack] == 0.0) and np.all(col(rows, "el")[slack] == 0.0)
+    nsl = col(rows, "nsl")
+    assert np.all(nsl[slack] == 0) and np.all(nsl[taut] == 1)   # a slack link moves freely: not "sliding"
     np.testing.assert_allclose(fy[taut], KN * stretch[taut], rtol=1e-9)
     np.testing.assert_allclose(fx[taut], -MU * fy[taut], rtol=1e-9)   # sliding: kt V >> mu kn W
     np.testing.assert_allclose(col(rows, "el")[taut],

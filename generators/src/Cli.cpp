@@ -168,10 +168,19 @@ std::string requireOut(const Options& o) {
     return out;
 }
 
-HexParams hexParams(const Options& o, const std::string& pre) {
+// The panel a mesh is clipped to and how messages name its sides: the panel subcommands' own
+// --width and --height, or what a fence module derives from its options.
+struct PanelSize {
+    double width, height;
+    std::string widthName = "--width", heightName = "--height";
+};
+
+PanelSize givenSize(const Options& o) { return {o.num("width"), o.num("height")}; }
+
+HexParams hexParams(const Options& o, const std::string& pre, const PanelSize& size) {
     HexParams p;
-    p.width = o.num("width");
-    p.height = o.num("height");
+    p.width = size.width;
+    p.height = size.height;
     p.axisDistance = o.num("axis-distance");
     p.twistLength = o.num("twist-length");
     p.rise = o.num("rise");
@@ -192,8 +201,8 @@ HexParams hexParams(const Options& o, const std::string& pre) {
         p.massRule = HexParams::Mass::Areal;
         p.arealMass = o.num(pre + "areal-mass");
     }
-    o.requireLess("--axis-distance", p.axisDistance, "--width", p.width);
-    o.requireLess("--twist-length + --rise", p.twistLength + p.rise, "--height/2", 0.5 * p.height);
+    o.requireLess("--axis-distance", p.axisDistance, size.widthName, p.width);
+    o.requireLess("--twist-length + --rise", p.twistLength + p.rise, size.heightName + "/2", 0.5 * p.height);
     if (!(p.snapFraction < 0.5))
         throw UsageError("--snap must be < 0.5 (got " + o.str("snap") + ")");
     if (!parsePlacement(o.str("placement"), p.placement))
@@ -205,10 +214,10 @@ HexParams hexParams(const Options& o, const std::string& pre) {
     return p;
 }
 
-SquareParams squareParams(const Options& o, const std::string& pre) {
+SquareParams squareParams(const Options& o, const std::string& pre, const PanelSize& size) {
     SquareParams p;
-    p.width = o.num("width");
-    p.height = o.num("height");
+    p.width = size.width;
+    p.height = size.height;
     p.cell = o.num("cell");
     p.ropeDiameter = o.num("rope-diameter");
     p.elements = int(o.integer("elements"));
@@ -216,8 +225,8 @@ SquareParams squareParams(const Options& o, const std::string& pre) {
                                               ? o.num(pre + "node-diameter") : p.ropeDiameter);
     p.ropeMass = o.num("rope-mass");
     p.dropFraction = o.num("edge-drop");
-    o.requireLess("--cell", p.cell, "--width", p.width);
-    o.requireLess("--cell", p.cell, "--height", p.height);
+    o.requireLess("--cell", p.cell, size.widthName, p.width);
+    o.requireLess("--cell", p.cell, size.heightName, p.height);
     if (!(p.dropFraction < 0.5))
         throw UsageError("--edge-drop must be < 0.5 (got " + o.str("edge-drop") + ")");
     return p;
@@ -327,7 +336,7 @@ int runHex(const std::vector<std::string>& args) {
     o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json)");
     if (!o.parse(args)) { std::cout << o.help(); return 0; }
     checkPanelOut(requireOut(o));
-    const HexParams p = hexParams(o, "");
+    const HexParams p = hexParams(o, "", givenSize(o));
     checkSize(o, HexPanel::estimateNodes(p));
     const NetModel m = HexPanel(p).build();
     NetDescription d = panelDescription("hex");
@@ -347,7 +356,7 @@ int runSquare(const std::vector<std::string>& args) {
     o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json)");
     if (!o.parse(args)) { std::cout << o.help(); return 0; }
     checkPanelOut(requireOut(o));
-    const SquareParams p = squareParams(o, "");
+    const SquareParams p = squareParams(o, "", givenSize(o));
     checkSize(o, SquarePanel::estimateNodes(p));
     const NetModel m = SquarePanel(p).build();
     NetDescription d = panelDescription("square");
@@ -370,8 +379,8 @@ int runCompound(const std::vector<std::string>& args) {
     if (!o.parse(args)) { std::cout << o.help(); return 0; }
     checkPanelOut(requireOut(o));
     CompoundParams p;
-    p.hex = hexParams(o, "hex-");
-    p.square = squareParams(o, "square-");
+    p.hex = hexParams(o, "hex-", givenSize(o));
+    p.square = squareParams(o, "square-", givenSize(o));
     p.tieEvery = int(o.integer("ties"));
     checkSize(o, HexPanel::estimateNodes(p.hex) + SquarePanel::estimateNodes(p.square));
     CompoundPanel panel(p);

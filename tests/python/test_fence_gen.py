@@ -289,8 +289,12 @@ def test_ropes_are_chains_of_rope_and_brake_bonds(fence):
         assert np.allclose(horiz[:, 2], z, atol=1e-12) and np.allclose(horiz[:, 1], 0, atol=1e-12)
         assert np.allclose(np.diff(horiz[:, 0]), e["a"], atol=1e-9)
         assert math.isclose(horiz[0, 0], -e["N"] * e["s"] / 2 + e["a"] / 2, abs_tol=1e-9)
-        # the legs: straight from the anchor towards the end post
-        for part in (xs[:leg + 1], xs[-leg - 1:]):
+        # the legs: straight from the anchor towards the end post, ending half a span bond before it
+        X = e["N"] * e["s"] / 2
+        for sign, part in ((-1, xs[:leg + 1]), (1, xs[-leg - 1:][::-1])):
+            post = np.array([sign * X, 0, z])
+            towards = (post - part[0]) / np.linalg.norm(post - part[0])
+            assert np.allclose(part[-1], post - e["a"] / 2 * towards, atol=1e-9)
             d = np.diff(part, axis=0)
             assert np.allclose(np.cross(d, d[0]), 0, atol=1e-9)
             assert np.allclose(np.linalg.norm(d, axis=1), np.linalg.norm(d[0]), atol=1e-9)

@@ -547,3 +547,7 @@ def test_liggghts_reads_the_fence(tmp_path, args):
     assert f"{len(f.meta['anchors'])} atoms in group anchors" in out
     rows = lmp.thermo_rows(out)
     assert rows and rows[-1]["Atoms"] == len(f.atoms) and rows[-1]["nb"] == 0
+    # the style took the coefficients of the fence's own types as the JSON describes them
+    assert "type 6 brake (brake): force 60000 N" in out and "type 8 brake (brake): force 30000 N" in out
+    assert "type 9 beam (post): section A = 0.005383 m^2, Iy = 3.692e-05 m^4, Iz = 1.336e-05 m^4" in out
+    assert "orient (1, 0, 0)" in out

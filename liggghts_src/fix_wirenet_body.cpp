@@ -4,9 +4,10 @@
    free: half kick with the last force and torque, then drift, WireNet::RigidBody); post_force
    finds the contacts of this rank's own nodes with the exact surface (bounding-sphere pre-test,
    then the shape's nearest-point query in the body frame), adds the contact forces to the nodes
-   and reduces the reaction on the body over all ranks; final_integrate gives the free body its
-   second half kick; end_of_step integrates the power of the contact forces on the nodes.
-   Every rank holds the whole body state and integrates it identically. */
+   and sums the reaction on the body, over all ranks for a free body (its motion needs it); a
+   kinematic body reduces its sums only when an output asks (reduce()). final_integrate gives
+   the free body its second half kick; end_of_step integrates the power of the contact forces
+   on the nodes. Every rank holds the whole body state and integrates it identically. */
 
 #include "fix_wirenet_body.h"
 #include "wirenet_fix_args.h"
@@ -136,8 +137,11 @@ FixWirenetBody::FixWirenetBody(LAMMPS *lmp, int narg, char **arg) :
   vel_kin(Vector3d::Zero()), omega_kin(Vector3d::Zero()), q0(Quaterniond::Identity()), ramp(0.0),
   elapsed(0.0), pos(Vector3d::Zero()), vel(Vector3d::Zero()), omega(Vector3d::Zero()),
   f_body(Vector3d::Zero()), t_body(Vector3d::Zero()), ncontact(0.0), elastic(0.0), work_body(0.0),
-  work_nodes_mine(0.0), work_nodes_all(0.0), hist(NULL), hist_rows(0), contacts_pending(false)
+  work_body_mine(0.0), work_nodes_mine(0.0), work_nodes_all(0.0), f_mean(Vector3d::Zero()), reduced_at(-1),
+  hist(NULL), hist_rows(0), contacts_pending(false)
 {
+  for (double &v : sums_mine) v = 0.0;
+  windows.reset(1, 3);
   law.kn = law.kt = law.mu = law.gamma_n = 0.0;
   try {
     parse(narg, arg);
@@ -266,6 +270,11 @@ void FixWirenetBody::parse(int narg, char **arg)
     } else if (key == "gravity") {
       gravity = vector3(narg, arg, k, key);
       have_gravity = true;
+    } else if (key == "mean") {
+      const double n = value(narg, arg, k, key, 1.0, false);
+      if (n != static_cast<double>(static_cast<int>(n)) || n > 1e9)
+        throw std::invalid_argument("'mean' must be an integer >= 1 (got " + text(n) + ")");
+      windows.reset(static_cast<int>(n), 3);
     } else {
       throw std::invalid_argument("unknown keyword '" + key + "'");
     }
@@ -415,13 +424,45 @@ void FixWirenetBody::compute_contacts(bool advance)
     sums[7] += e;
     contacts.push_back(nc);
   }
-  double all[8];
-  MPI_Allreduce(sums, all, 8, MPI_DOUBLE, MPI_SUM, world);
-  f_body = Vector3d(all[0], all[1], all[2]);
-  t_body = Vector3d(all[3], all[4], all[5]);
-  ncontact = all[6];
-  elastic = all[7];
+  for (int k = 0; k < 8; k++) sums_mine[k] = sums[k];
+  double *win = windows.add_step(update->ntimestep);
+  if (win)
+    for (int d = 0; d < 3; d++) win[d] += sums[d];
+  reduced_at = -1;
+  if (free_body) {
+    double all[8];
+    MPI_Allreduce(sums, all, 8, MPI_DOUBLE, MPI_SUM, world);
+    f_body = Vector3d(all[0], all[1], all[2]);
+    t_body = Vector3d(all[3], all[4], all[5]);
+    ncontact = all[6];
+    elastic = all[7];
+  }
   contacts_pending = advance;
+}
+
+// The outputs' sums over the ranks, in one reduction per step asked: a kinematic body's force,
+// torque, contacts, elastic energy and work; the work on the nodes; the window mean force.
+void FixWirenetBody::reduce()
+{
+  if (reduced_at == update->ntimestep) return;
+  int count = 0;
+  const double *win = windows.complete(update->ntimestep, count);
+  double buf[13];
+  for (int k = 0; k < 8; k++) buf[k] = sums_mine[k];
+  buf[8] = work_body_mine;
+  buf[9] = work_nodes_mine;
+  for (int d = 0; d < 3; d++) buf[10 + d] = count ? win[d] / count : 0.0;
+  MPI_Allreduce(MPI_IN_PLACE, buf, 13, MPI_DOUBLE, MPI_SUM, world);
+  if (!free_body) {
+    f_body = Vector3d(buf[0], buf[1], buf[2]);
+    t_body = Vector3d(buf[3], buf[4], buf[5]);
+    ncontact = buf[6];
+    elastic = buf[7];
+    work_body = buf[8];
+  }
+  work_nodes_all = buf[9];
+  f_mean = Vector3d(buf[10], buf[11], buf[12]);
+  reduced_at = update->ntimestep;
 }
 
 void FixWirenetBody::final_integrate()
@@ -431,8 +472,15 @@ void FixWirenetBody::final_integrate()
     body->kick(f_body + body->mass() * gravity, t_body, 0.5 * dt);
     update_pose();
   }
-  // F(t+dt) . v(t+dt) dt, the convention of fix wirenet/damping and wirenet/contactwork
-  work_body += dt * (f_body.dot(vel) + t_body.dot(omega));
+  // F(t+dt) . v(t+dt) dt, the convention of fix wirenet/damping and wirenet/contactwork; a
+  // kinematic body's work is linear in the contacts' forces, so each rank sums its own
+  if (free_body) {
+    work_body += dt * (f_body.dot(vel) + t_body.dot(omega));
+  } else {
+    const Vector3d f_mine(sums_mine[0], sums_mine[1], sums_mine[2]), t_mine(sums_mine[3], sums_mine[4], sums_mine[5]);
+    work_body_mine += dt * (f_mine.dot(vel) + t_mine.dot(omega));
+  }
+  reduced_at = -1;
 }
 
 void FixWirenetBody::end_of_step()
@@ -448,24 +496,26 @@ void FixWirenetBody::end_of_step()
     work_nodes_mine += dt * p;
   }
   contacts_pending = false;
+  reduced_at = -1;
 }
 
 double FixWirenetBody::compute_vector(int n)
 {
+  // a free body's force, torque, contacts and energy are reduced already (its motion needs them)
+  const bool summed = n == 13 || n > 24 || (!free_body && (n < 6 || n == 12 || n == 14 || n == 24));
+  if (summed) reduce();
   if (n < 3) return f_body[n];
   if (n < 6) return t_body[n - 3];
   if (n < 9) return pos[n - 6];
   if (n < 12) return vel[n - 9];
   if (n == 12) return ncontact;
-  if (n == 13) {
-    MPI_Allreduce(&work_nodes_mine, &work_nodes_all, 1, MPI_DOUBLE, MPI_SUM, world);
-    return work_nodes_all;
-  }
+  if (n == 13) return work_nodes_all;
   if (n == 14) return work_body;
   if (n < 18) return omega[n - 15];
   if (n == 18) return free_body ? body->kinetic_energy() : 0.0;
   if (n == 19) return free_body ? -body->mass() * gravity.dot(pos) : 0.0;
   if (n == 24) return elastic;
+  if (n > 24) return f_mean[n - 25];
   Quaterniond r = (q_shape * q_defined.conjugate()).normalized();
   if (r.w() < 0.0) r.coeffs() *= -1.0;
   const double c[4] = { r.w(), r.x(), r.y(), r.z() };
@@ -476,7 +526,8 @@ double FixWirenetBody::compute_vector(int n)
 
 void FixWirenetBody::write_restart(FILE *fp)
 {
-  MPI_Allreduce(&work_nodes_mine, &work_nodes_all, 1, MPI_DOUBLE, MPI_SUM, world);
+  reduced_at = -1;
+  reduce();
   if (comm->me != 0) return;
   double list[NRESTART];
   for (int k = 0; k < NRESTART; k++) list[k] = 0.0;
@@ -511,7 +562,9 @@ void FixWirenetBody::restart(char *buf)
                                 : "fix wirenet/body: the restart file holds a free body, this fix defines a kinematic one");
   elapsed = list[1];
   work_body = list[2];
+  work_body_mine = comm->me == 0 && !free_body ? list[2] : 0.0;
   work_nodes_mine = comm->me == 0 ? list[3] : 0.0;
+  reduced_at = -1;
   q_defined = from_array(&list[21]);
   x0 = Vector3d(list[29], list[30], list[31]);
   q0 = from_array(&list[32]);

@@ -16,6 +16,7 @@ FixStyle(wirenet/body,FixWirenetBody)
 #include "fix.h"
 #include "wirenet_body_shapes.h"
 #include "wirenet_rigid_body.h"
+#include "wirenet_window_mean.h"
 #include <Eigen/Geometry>
 #include <memory>
 #include <string>
@@ -26,7 +27,8 @@ namespace LAMMPS_NS {
 class FixWirenetBody : public Fix {
  public:
   // global vector: F(3) T(3) x(3) v(3) ncontact W_nodes W_body omega(3) KE PE q(4) E_elastic
-  static const int NVECTOR = 25;
+  // F_mean(3) (the force's mean over the last window of `mean` steps)
+  static const int NVECTOR = 28;
 
   FixWirenetBody(class LAMMPS *, int, char **);
   ~FixWirenetBody();
@@ -77,12 +79,19 @@ class FixWirenetBody : public Fix {
   // pose at the last update: reference point, its velocity, angular velocity, shape frame
   Eigen::Vector3d pos, vel, omega;
   Eigen::Quaterniond q_shape, q_defined;
-  // results of the last force evaluation, summed over ranks
+  // results of the last force evaluation: this rank's contacts (force, torque, count, elastic
+  // energy), and their sums over the ranks. A free body needs the sums at every step; a
+  // kinematic one only for its outputs, so it reduces them when they are asked for.
+  double sums_mine[8];
   Eigen::Vector3d f_body, t_body;
   double ncontact, elastic;
-  double work_body;                    // work of the contact forces on the body (all ranks)
+  double work_body;                    // work of the contact forces on the body (free: all ranks)
+  double work_body_mine;               // kinematic: the same work of this rank's contacts
   double work_nodes_mine;              // work of the contact forces on this rank's nodes
   double work_nodes_all;
+  WireNet::WindowSums windows;         // this rank's contact force on the body, per mean window
+  Eigen::Vector3d f_mean;              // the last complete window's mean force, all ranks
+  long long reduced_at;                // step of the reduced outputs; -1: stale
   double **hist;                       // per atom: tangential spring (3), in contact (1)
   int hist_rows;                       // rows of hist allocated (new rows start at zero)
   std::vector<NodeContact> contacts;   // this rank's contacts of the last post_force
@@ -91,6 +100,7 @@ class FixWirenetBody : public Fix {
   void parse(int narg, char **arg);
   void update_pose();
   void compute_contacts(bool advance);
+  void reduce();
 };
 
 }

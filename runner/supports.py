@@ -4,9 +4,12 @@ Each of the four edges (left x = -W/2, right x = +W/2, bottom y = -H/2, top y = 
 pinned (held in x, y, z), sliding (held across its edge line and along z: the paper's support)
 or free. A corner node is held in every component that either of its two edges holds. The
 eight groups of edge nodes (four edges without their corners, four corners) that hold the same
-components share one setforce fix (each fix is a pass over every atom: the paper's four sliding
-edges need three, four pinned edges one), so every held node is in exactly one fix and a support
-reaction is the sum of the components the fixes remove. The unfix file (render_unfix) makes
+components share one `fix wirenet/hold` (each fix is a pass over every atom: the paper's four
+sliding edges need three, four pinned edges one), so every held node is in exactly one fix and a
+support reaction is the sum of the fixes' reactions. Each fix also keeps the mean of its
+reaction over the deck's output window (`mean ${every}`), summed on each rank and reduced once
+per output row: v_rx_mean etc. need no collective at every step (doc/fix_wirenet_hold.md).
+The unfix file (render_unfix) makes
 the supports re-includable. inputs/include/hold.in and unfix_supports.in are this renderer's
 output for four sliding edges (tests/python/test_case_files.py keeps them equal).
 """
@@ -33,7 +36,7 @@ _UNIONS = {frozenset(("left", "right")): "xedge", frozenset(("bottom", "top")): 
 
 
 def fixes(supports):
-    """[(fix ID, group, setforce values, held components, member groups)]: one setforce fix per
+    """[(fix ID, group, held values X Y Z, held components, member groups)]: one hold fix per
     distinct set of held components (a pass over the atoms per fix), none for free nodes."""
     by_values = {}
     for group, edges in _GROUPS:
@@ -53,20 +56,23 @@ def render(supports):
     """Deck text of the supports {edge: kind} (every edge named)."""
     lines = ["# WireNet deck include, rendered by runner/supports.py: the edge supports "
              + ", ".join(f"{e} {supports[e]}" for e in EDGES) + ".",
-             "# One setforce fix per distinct set of held components (free nodes: none); a fix's",
-             "# vector is the force it removed, so minus its held components is the support reaction.",
-             "# Needs the groups of edges.in; re-include after its unfix file (render_unfix)."]
+             "# One wirenet/hold fix per distinct set of held components (free nodes: none); a fix's",
+             "# vector is its support reaction, at this step (1-3) and as its mean over the deck's",
+             "# output window of every steps (4-6). Needs the groups of edges.in and the variable every;",
+             "# re-include after its unfix file (render_unfix)."]
     terms = {c: [] for c in "xyz"}
     for fix, group, values, hold, members in fixes(supports):
         if group == fix:
             lines.append(f"group           {fix} union {' '.join(members)}")
-        lines.append(f"fix             {fix} {group} setforce {values}")
+        lines.append(f"fix             {fix} {group} wirenet/hold {values} mean ${{every}}")
         for k, c in enumerate("xyz", 1):
             if c in hold:
-                terms[c].append(f"f_{fix}[{k}]")
+                terms[c].append((f"f_{fix}[{k}]", f"f_{fix}[{k + 3}]"))
     for c in "xyz":
-        expr = f"-({'+'.join(terms[c])})" if terms[c] else "0"
-        lines.append(f"variable        r{c} equal {expr}")
+        now = "+".join(t for t, _ in terms[c]) or "0"
+        mean = "+".join(m for _, m in terms[c]) or "0"
+        lines.append(f"variable        r{c} equal {now}")
+        lines.append(f"variable        r{c}_mean equal {mean}")
     return "\n".join(lines) + "\n"
 
 

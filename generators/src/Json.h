@@ -30,6 +30,8 @@ public:
     Json& set(const std::string& key, Json value);
     Json& push(Json value);
     bool empty() const { return items_.empty() && elems_.empty(); }
+    // An object's keys and values in insertion order.
+    const std::vector<std::pair<std::string, Json>>& items() const { return items_; }
     std::string dump(int indent = 0) const;
 
 private:

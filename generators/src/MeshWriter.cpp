@@ -64,7 +64,7 @@ Json MeshWriter::metadata() const {
     j.set("atom_types", names(desc_.atomTypeNames)).set("bond_types", names(desc_.bondTypeNames));
     j.set("centre", Json::vec3(desc_.centre));
     Json normal = Json::array();
-    normal.push(0).push(0).push(1);
+    for (int i = 0; i < 3; ++i) normal.push(int(desc_.normal[i]));
     j.set("normal", normal);
     Json panel = Json::object();
     panel.set("width", desc_.width).set("height", desc_.height);
@@ -78,6 +78,7 @@ Json MeshWriter::metadata() const {
     j.set("bbox", bbox).set("box", box);
     j.set("max_bond_length", model_.maxBondLength());
     if (!desc_.extra.empty()) j.set(desc_.kind, desc_.extra);
+    for (const auto& kv : desc_.top.items()) j.set(kv.first, kv.second);
     return j;
 }
 

@@ -59,9 +59,11 @@ struct NetDescription {
     int atomTypes = 8, bondTypes = 4;
     std::map<int, std::string> atomTypeNames, bondTypeNames;
     Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // the net's normal towards the loaded side
     double width = 0, height = 0;
     Json cells = Json::object(), wires = Json::object(), node = Json::object();
-    Json extra = Json::object();  // kind-specific additions (ties, beam, rules)
+    Json extra = Json::object();  // kind-specific additions (ties, beam, rules), under the key `kind`
+    Json top = Json::object();    // kind-specific keys at the top level of the JSON (fence)
     double area = 0;              // for areal mass; 0 = not a panel
     Box box;
 };

@@ -103,9 +103,16 @@ PRE='mkdir s.json' bad "--out cannot write s.json (is a directory)" shape cone -
 PRE='mkdir sub' bad "--out must be a file prefix, not a folder (got sub/)" square --out sub/
 PRE='touch file' bad "--out cannot write file/p.data (file is not a folder)" hex --out file/p
 bad "--out must name the STL file, not its .json (got s.json)" shape cone --out s.json
+# fence: its own options, the panel options it reuses, and a third output file.
+bad "--net must be hex, square or compound (got chain)" fence --net chain --out p
+bad "--modules must be >= 1 (got 0)"         fence --modules 0 --out p
+bad "--axis-distance must be <= --spacing - 2 x --shackle-gap (got 20 > 9.9)" fence --axis-distance 20 --out p
+bad "--brakes must be <= 5"                  fence --brakes 6 --out p
+bad "more than --max-nodes 100"              fence --max-nodes 100 --out p
+PRE='mkdir p.shackles' bad "--out cannot write p.shackles (is a directory)" fence --out p
 
 # --help on every subcommand: exit 0, options with units and defaults.
-for sub in hex square compound beam "shape spheroid" "shape cone" "shape truncated-cube"; do
+for sub in hex square compound beam fence "shape spheroid" "shape cone" "shape truncated-cube"; do
     out=$("$GEN" $sub --help 2>&1); rc=$?
     [ $rc -eq 0 ] || fail "$sub --help exit $rc"
     [[ "$out" == *"(default: "* && "$out" == *"[m]"* && "$out" == *"--out"* ]] || fail "$sub --help text"
@@ -125,6 +132,9 @@ for shape in spheroid cone truncated-cube; do
     head -1 "$shape.stl" | grep -q "^solid" && tail -1 "$shape.stl" | grep -q "^endsolid" || fail "$shape: not ASCII STL"
     [ -s "$shape.json" ] || fail "$shape: json missing"
 done
+"$GEN" fence --modules 1 --spacing 4 --height 3 --out fence >/dev/null 2>err.txt || fail "fence run failed: $(cat err.txt)"
+[ -s fence.data ] && [ -s fence.json ] && [ -s fence.shackles ] || fail "fence: missing output"
+grep -q '^ropes ' fence.shackles && grep -q '^shackles ' fence.shackles || fail "fence.shackles: no ropes/shackles lines"
 grep -q '"inertia"' truncated-cube.json || fail "truncated-cube.json lacks the inertia tensor"
 left=$(ls -A | grep tmp)
 [ -z "$left" ] || fail "temporary files left: $left"

@@ -484,3 +484,25 @@ def test_bad_arguments_are_named(tmp_path, case):
     deck = header(1.0) + node(1, (0.0, 0.0, 0.0), 0.01) + f"fix b all wirenet/body {args}\nrun 0\n"
     rc, out = lmp.run_deck_rc(deck, tmp_path)
     check_error(rc, out, "fix wirenet/body: " + phrase)
+
+
+def test_window_mean_force_is_the_mean_of_fix_ave_time_on_one_and_two_ranks(tmp_path):
+    """`mean N`: outputs 26-28 are the mean force over the window of N steps up to the last
+    multiple of N, summed on each rank and reduced once per output; fix ave/time takes the same
+    mean of the reduced force at every step. The plane drags six nodes across the ranks' cut."""
+    def deck(extra_header=""):
+        d = drag_deck(extra_header).replace("vel 1 0 0\n", "vel 1 0 0 mean 100\n")
+        return d.replace("run 9000\n", "fix m all ave/time 1 100 100 f_p[1] f_p[2] f_p[3]\n"
+                         'fix out all print 100 "M $(step) $(f_p[26]) $(f_p[27]) $(f_p[28]) '
+                         '$(f_m[1]) $(f_m[2]) $(f_m[3])" screen yes\nrun 4030\nrun 2970\n')
+
+    def means(out):
+        return np.array([line.split()[1:] for line in out.splitlines() if line.startswith("M ")], float)
+
+    one = means(lmp.run_deck(deck(), tmp_path / "np1"))
+    two = means(lmp.run_deck(deck("processors 2 1 1"), tmp_path / "np2", np=2))
+    assert len(one) == 70 and list(one[:, 0]) == list(range(100, 7001, 100))
+    scale = np.abs(one[:, 4:7]).max()
+    assert scale > 1.0
+    assert np.abs(one[:, 1:4] - one[:, 4:7]).max() < 1e-12 * scale   # two runs: no step twice
+    assert np.abs(two[:, 1:4] - one[:, 1:4]).max() < 1e-9 * scale

@@ -164,17 +164,19 @@ def test_supports_share_fixes_hold_the_union_at_corners_and_sum_held_components_
     # pinned left with its two corners (pinned + free, pinned + sliding) in one fix, the sliding
     # bottom with its free-side corner in another; the free right and top edges in none
     assert "group           hold_1 union left corner_lb corner_lt\n" in text
-    assert "fix             hold_1 hold_1 setforce 0 0 0\n" in text
+    assert "fix             hold_1 hold_1 wirenet/hold 0 0 0 mean ${every}\n" in text
     assert "group           hold_2 union bottom corner_rb\n" in text
-    assert "fix             hold_2 hold_2 setforce NULL 0 0\n" in text
+    assert "fix             hold_2 hold_2 wirenet/hold NULL 0 0 mean ${every}\n" in text
     assert text.count("\nfix ") == 2
-    assert "variable        rx equal -(f_hold_1[1])" in text
-    assert "variable        ry equal -(f_hold_1[2]+f_hold_2[2])" in text
+    assert "variable        rx equal f_hold_1[1]\n" in text
+    assert "variable        ry equal f_hold_1[2]+f_hold_2[2]\n" in text
+    assert "variable        ry_mean equal f_hold_1[5]+f_hold_2[5]\n" in text
     # the groups edges.in already has are used as they are: one fix for four pinned edges
     pinned = supports.render({e: "pinned" for e in supports.EDGES})
-    assert "fix             hold_1 edge setforce 0 0 0\n" in pinned and "group  " not in pinned
+    assert "fix             hold_1 edge wirenet/hold 0 0 0 mean ${every}\n" in pinned and "group  " not in pinned
     free = supports.render({e: "free" for e in supports.EDGES})
-    assert "\nfix " not in free and "variable        rz equal 0" in free
+    assert "\nfix " not in free and "variable        rz equal 0\n" in free \
+        and "variable        rz_mean equal 0\n" in free
     assert supports.render_unfix(dict(left="pinned", right="free", bottom="sliding", top="free")) \
         .splitlines()[1:] == ["unfix           hold_1", "unfix           hold_2"]
 
@@ -220,13 +222,14 @@ boundary f f f
 read_data {data}
 variable inc string {lmp.ROOT / 'inputs' / 'include'}
 include ${{inc}}/edges.in
+variable every index 5
 fix push all addforce {push['x']} {push['y']} {push['z']}
 include {tmp_path / 'supports.in'}
 include {tmp_path / 'unfix.in'}
 include {tmp_path / 'supports.in'}
 fix integ all nve/sphere
 timestep 1e-3
-thermo_style custom step v_rx v_ry v_rz
+thermo_style custom step v_rx v_ry v_rz v_rx_mean v_ry_mean v_rz_mean
 thermo_modify format float %.10g
 run 10
 """
@@ -234,6 +237,8 @@ run 10
     row = lmp.thermo_rows(out)[-1]
     assert (row["rx"], row["ry"], row["rz"]) == pytest.approx(
         (expected["x"], expected["y"], expected["z"]))
+    # a constant load: the window means (of the last 5 steps) are the reactions
+    assert (row["rx_mean"], row["ry_mean"], row["rz_mean"]) == (row["rx"], row["ry"], row["rz"])
     if chosen == dict(left="pinned", right="sliding", bottom="free", top="sliding"):
         # by hand: x: left 3 (pinned) + right edge node and 2 corners (sliding) = 6; y: left 3 +
         # top edge node + right-top corner = 5 (x 2 N); z: all but the bottom edge node and the

@@ -1,0 +1,114 @@
+// A rockfall fence in the form of EAD 340059-00-0106 (formerly ETAG 027): net modules between
+// posts, a top and a bottom support rope from lateral anchor to lateral anchor with brakes,
+// hinged posts with upslope ropes, and the shackles that hang the net on the ropes
+// (doc/wirenet-gen.md, "fence"). The net modules are the panel generators' panels, moved into
+// the fence's frame; nothing of their construction is repeated here.
+//
+// Frame: x along the fence (posts at x_i = (i - N/2) s), y upslope (the side the block comes
+// from: it travels towards -y), z up (post bases at z = 0, heads at z = H). The net hangs in
+// the plane y = 0 of the posts; a panel's own (x, y, z) becomes (x_c + x, z, H/2 + y), so its
+// loaded side (+z) faces upslope (+y).
+#pragma once
+#include <string>
+#include <vector>
+
+#include "CompoundPanel.h"
+
+namespace wirenet {
+
+// Atom and bond types of a fence beyond the panels' 1-8 and 1-4 (doc/file_formats.md).
+namespace ftype {
+constexpr int SupportRope = 9, UpslopeRope = 10, Post = 11, PostBase = 12, PostHead = 13, Anchor = 14;
+constexpr int Count = 14;
+}  // namespace ftype
+namespace fbond {
+constexpr int SupportRope = 5, Brake = 6, Upslope = 7, UpslopeBrake = 8, Post = 9;
+constexpr int Count = 9;
+}  // namespace fbond
+// Molecule ids: 1 hexagonal layer, 2 square layer (as in the panels), then the fence's parts.
+namespace fmol {
+constexpr int TopRope = 3, BottomRope = 4, Upslope = 5, Posts = 6, Anchors = 7;
+}
+
+enum class NetKind { Hex, Square, Compound };
+const char* netKindName(NetKind k);
+
+struct FenceParams {
+    int modules = 3;                 // functional modules (panels between posts)
+    double spacing = 10.0;           // post spacing, m
+    double height = 5.0;             // post height = nominal height, m
+    NetKind net = NetKind::Compound;
+    CompoundParams panel;            // hex / square parameters and ties; width/height set by the fence
+    double shackleGap = 0.05;        // net edge to its rope or post, m
+    bool sideShackles = true;        // module sides shackled to the posts
+    double ropeSegment = 0.5;        // target rope bond length, m
+    double supportDiameter = 0.022, upslopeDiameter = 0.022;  // m
+    double fill = 0.65;              // metallic fill factor of the wire ropes
+    double density = 7850.0;         // steel, kg/m3
+    double anchorDistance = 5.0;     // top rope's lateral anchors beyond the end posts, m
+    double bottomAnchorDistance = 2.5;  // bottom rope's lateral anchors beyond the end posts, m
+    int brakes = 1;                  // brake bonds per support-rope end (next to the lateral anchor)
+    double upslopeDistance = 10.0;   // upslope anchors behind the posts (+y), m
+    double upslopeHeight = 0.0;      // height of the upslope anchors above the post bases, m
+    int upslopeBrakes = 1;           // brake bonds per upslope rope (next to its anchor)
+    int postElements = 5;
+    double postArea = 53.83e-4, postIy = 3692e-8, postIz = 1336e-8, postJ = 20.98e-8;  // HEA 200
+    double postNodeDiameter = 0.05;  // m (numerical contact sphere)
+
+    double panelWidth() const { return spacing - 2 * shackleGap; }
+    double panelHeight() const { return height - 2 * shackleGap; }
+    double postX(int i) const { return (i - 0.5 * modules) * spacing; }
+    // Rope bonds per module span (the horizontal parts: post heads/bases at bond midpoints).
+    long spanBonds() const;
+    double spanBond() const { return spacing / double(spanBonds()); }
+    // Bonds of the legs from a lateral anchor to the rope's first horizontal node.
+    long topLegBonds() const;
+    long bottomLegBonds() const;
+    double topLegLength() const;      // anchor to the node half a span bond before the end post head
+    double bottomLegLength() const;
+    double upslopeLength() const;
+    long upslopeBonds() const;
+    double ropeMass(double diameter) const;  // kg/m: fill x density x pi d^2 / 4
+};
+
+struct FenceRope {
+    int id;                      // rope id of the .shackles file
+    std::string name, kind;      // e.g. top_support / support_rope, post_0 / post
+    std::vector<int> atoms;      // 0-based node indices along the rope
+};
+struct FenceAnchor {
+    int atom;
+    std::string name, rope;
+};
+struct Shackle {
+    int atom, rope;              // 0-based node index, rope id
+};
+
+struct FenceModel {
+    NetModel model;
+    NetModel panel;                          // one module's net in the panel frame
+    std::vector<FenceRope> ropes;            // the ropes of the .shackles file
+    std::vector<Shackle> shackles;
+    std::vector<FenceAnchor> anchors;
+    std::vector<std::vector<int>> upslopeRopes;  // post head .. upslope anchor, per post
+    std::vector<int> postBases, postHeads;
+    long panelNodes = 0, panelBonds = 0;     // per module
+    double netMass = 0, supportMass = 0, upslopeMass = 0, postMass = 0;
+    double shackleMaxDistance = 0;
+    std::vector<Eigen::Vector3d> moduleCentres;
+};
+
+class Fence {
+public:
+    explicit Fence(const FenceParams& p) : p_(p) {}
+    // One module's net in the panel frame (centred on the origin, normal +z).
+    NetModel panel() const;
+    FenceModel build() const;
+    // Nodes build() allocates, in floating point, before anything is allocated.
+    static double estimateNodes(const FenceParams& p);
+
+private:
+    FenceParams p_;
+};
+
+}  // namespace wirenet

@@ -511,3 +511,38 @@ def test_warns_when_damping_comes_first(tmp_path):
     deck = lmp.PREAMBLE + f"read_data rope.data\nfix sh all wirenet/shackle file rope.shackles {GOOD}\n" \
         "fix damp all wirenet/damping 0.5\nrun 1\n"
     assert "WARNING" not in lmp.run_deck(deck, tmp_path)
+
+
+# ---- the file wirenet-gen fence writes --------------------------------------------------------
+
+@pytest.mark.parametrize("np_", [1, 2])
+def test_reads_the_shackles_of_a_generated_fence(tmp_path, np_):
+    """A small fence from `wirenet-gen fence` (doc/wirenet-gen.md): the fix reads its .shackles file,
+    finds every atom and places every shackle. With `rest initial` no shackle pulls at the start;
+    with `rest zero` the largest pull is kn times the largest distance of a shackle from its rope,
+    which the generator reports in the JSON (the gap g: why fence decks want `rest initial`)."""
+    import json
+    import subprocess
+    subprocess.run([str(lmp.GEN), "fence", "--modules", "1", "--spacing", "3", "--height", "2",
+                    "--net", "square", "--out", str(tmp_path / "f")], check=True, capture_output=True)
+    meta = json.loads((tmp_path / "f.json").read_text())
+    far, longest = meta["shackles"]["max_distance"], meta["max_bond_length"]
+    assert meta["shackles"]["count"] > 50 and far > 0.01
+    kn = 1e6
+    procs = "processors 2 1 1\n" if np_ == 2 else ""
+    out = {}
+    for rest in ("initial", "zero"):
+        deck = lmp.PREAMBLE + procs + f"""read_data f.data
+bond_style harmonic
+bond_coeff * 0.0 0.1
+communicate single cutoff {2.1 * (longest + far)!r}
+fix sh all wirenet/shackle file f.shackles kn {kn!r} kt {kn!r} mu 0.2 rest {rest}
+variable el equal f_sh[2]
+variable fm equal f_sh[4]
+thermo_style custom step v_el v_fm
+thermo_modify format float %.17g
+run 0
+"""
+        out[rest] = lmp.thermo_rows(lmp.run_deck(deck, tmp_path, np=np_, name=f"in.{rest}"))[-1]
+    assert out["initial"]["el"] == 0.0 and out["initial"]["fm"] == 0.0
+    assert out["zero"]["fm"] == pytest.approx(kn * far, rel=1e-9)

@@ -503,6 +503,8 @@ int runFence(const std::vector<std::string>& args) {
     o.addNumber("upslope-height", 0.0, "m", "height of the upslope anchors above the post bases", Bound::Any);
     o.addInt("upslope-brakes", 1, 0, "brake bonds in each upslope rope next to its anchor");
     o.addInt("post-elements", 5, 1, "beam elements per post");
+    o.addNumber("post-tilt", 0.0, "deg", "posts, net and support ropes lean downslope (towards -y) by this angle about the ground line; "
+                "a vertical hinged post is an inverted pendulum that only its tension-only upslope rope holds", Bound::Any);
     o.addNumber("post-area", kHeaArea, "m2", "post section area A (HEA 200)");
     o.addNumber("post-iy", kHeaIy, "m4", "post second moment Iy about the strong axis, which lies along the fence (HEA 200)");
     o.addNumber("post-iz", kHeaIz, "m4", "post second moment Iz about the weak axis, which lies along y (HEA 200)");
@@ -556,6 +558,9 @@ int runFence(const std::vector<std::string>& args) {
         throw UsageError("--upslope-height must be < --height (got " + fmt(p.upslopeHeight) + " >= " + fmt(p.height) + ")");
     p.upslopeBrakes = int(o.integer("upslope-brakes"));
     p.postElements = int(o.integer("post-elements"));
+    p.postTilt = o.num("post-tilt");
+    if (!(p.postTilt >= 0.0 && p.postTilt < 45.0))
+        throw UsageError("--post-tilt must be >= 0 and < 45 degrees (got " + o.str("post-tilt") + ")");
     p.postArea = o.num("post-area");
     p.postIy = o.num("post-iy");
     p.postIz = o.num("post-iz");
@@ -602,7 +607,7 @@ int runFence(const std::vector<std::string>& args) {
                             {fbond::UpslopeBrake, "upslope_brake"}, {fbond::Post, "post"}});
     const int middle = p.modules / 2;
     d.centre = f.moduleCentres[middle];
-    d.normal = Eigen::Vector3d::UnitY();
+    d.normal = p.lean(Eigen::Vector3d::UnitY());
     d.width = p.panelWidth();
     d.height = p.panelHeight();
     if (p.net != NetKind::Square) describeHex(d, p.panel.hex, f.panel);
@@ -614,10 +619,11 @@ int runFence(const std::vector<std::string>& args) {
     d.extra.set("post_x", [&] { Json a = Json::array(); for (int i = 0; i <= p.modules; ++i) a.push(p.postX(i)); return a; }());
     d.extra.set("shackle_gap", p.shackleGap).set("panel_nodes", f.panelNodes).set("panel_bonds", f.panelBonds);
     d.extra.set("anchor_distance", p.anchorDistance).set("bottom_anchor_distance", p.bottomAnchorDistance);
-    d.extra.set("upslope_distance", p.upslopeDistance).set("upslope_height", p.upslopeHeight);
+    d.extra.set("upslope_distance", p.upslopeDistance).set("upslope_height", p.upslopeHeight).set("post_tilt_deg", p.postTilt);
     d.extra.set("coordinates", "x along the fence (centred on the fence), y upslope: the block comes from +y and "
                 "travels towards -y, z up; post bases at z = 0, heads at z = height; the net in the plane y = 0; "
-                "a panel's (x, y, z) is (x_c + x, z, height/2 + y) here");
+                "a panel's (x, y, z) is (x_c + x, z, height/2 + y) here; with post_tilt_deg > 0 all of it but the upslope ropes "
+                "is then turned about the x axis at the ground, the heads towards -y");
     Json families = Json::object();
     for (const auto& kv : std::map<int, std::string>{{1, "DT"}, {2, "SW"}, {3, "selvedge"}, {4, "rope"},
                                                       {5, "rope"}, {6, "brake"}, {7, "upslope"}, {8, "brake"}, {9, "post"}})
@@ -664,7 +670,8 @@ int runFence(const std::vector<std::string>& args) {
     upslope.set("diameter", p.upslopeDiameter).set("fill", p.fill).set("mass_per_metre", muU)
         .set("bond_type", fbond::Upslope).set("family", "upslope").set("brake_bond_type", fbond::UpslopeBrake)
         .set("brakes", p.upslopeBrakes).set("bonds", p.upslopeBonds()).set("length", p.upslopeLength())
-        .set("angle_deg", std::atan2(p.height - p.upslopeHeight, p.upslopeDistance) * 180.0 / M_PI)
+        .set("angle_deg", std::atan2(p.lean({0.0, 0.0, p.height}).z() - p.upslopeHeight,
+                                     p.upslopeDistance - p.lean({0.0, 0.0, p.height}).y()) * 180.0 / M_PI)
         .set("node_type", ftype::UpslopeRope).set("node_diameter", p.upslopeDiameter).set("atoms", upslopeIds);
     Json ropeJson = Json::object();
     ropeJson.set("support", support).set("upslope", upslope);

@@ -38,7 +38,14 @@ double FenceParams::topLegLength() const {
 double FenceParams::bottomLegLength() const { return bottomAnchorDistance - 0.5 * spanBond(); }
 long FenceParams::topLegBonds() const { return long(bondsFor(topLegLength(), ropeSegment)); }
 long FenceParams::bottomLegBonds() const { return long(bondsFor(bottomLegLength(), ropeSegment)); }
-double FenceParams::upslopeLength() const { return std::hypot(upslopeDistance, height - upslopeHeight); }
+Eigen::Vector3d FenceParams::lean(const Eigen::Vector3d& x) const {
+    const double t = postTilt * M_PI / 180.0, c = std::cos(t), s = std::sin(t);
+    return {x.x(), c * x.y() - s * x.z(), s * x.y() + c * x.z()};
+}
+double FenceParams::upslopeLength() const {
+    const Eigen::Vector3d head = lean({0.0, 0.0, height});
+    return std::hypot(upslopeDistance - head.y(), head.z() - upslopeHeight);
+}
 long FenceParams::upslopeBonds() const { return long(bondsFor(upslopeLength(), ropeSegment)); }
 double FenceParams::ropeMass(double d) const { return fill * density * M_PI * 0.25 * d * d; }
 
@@ -55,7 +62,7 @@ double Fence::estimateNodes(const FenceParams& p) {
     const double bottom = bondsFor(p.bottomAnchorDistance - 0.5 * a, p.ropeSegment);
     const double span = bondsFor(p.spacing, p.ropeSegment);
     const double n = p.modules, posts = n + 1;
-    const double upslope = bondsFor(std::hypot(p.upslopeDistance, p.height - p.upslopeHeight), p.ropeSegment);
+    const double upslope = bondsFor(p.upslopeLength(), p.ropeSegment);
     return n * panel + 4 + 2 * (top + bottom) + 2 * n * span + posts * (p.postElements + 1 + upslope);
 }
 
@@ -165,6 +172,13 @@ FenceModel Fence::build() const {
         f.shackles.push_back({f.postBases[i], kBottom});
     }
     if (p_.sideShackles) f.ropes.insert(f.ropes.end(), postRopes.begin(), postRopes.end());
+
+    // The leaned fence: everything so far turns about the ground line (the lateral anchors stay);
+    // the upslope ropes below then run from the leaned heads to anchors on the slope.
+    if (p_.postTilt != 0.0) {
+        for (Node& n : m.nodes) n.x = p_.lean(n.x);
+        for (auto& c : f.moduleCentres) c = p_.lean(c);
+    }
 
     // Upslope ropes: post head to its anchor, brakes next to the anchor.
     const long mu = p_.upslopeBonds();

@@ -52,6 +52,10 @@ struct FenceParams {
     double upslopeHeight = 0.0;      // height of the upslope anchors above the post bases, m
     int upslopeBrakes = 1;           // brake bonds per upslope rope (next to its anchor)
     int postElements = 5;
+    double postTilt = 0.0;           // degrees: posts and net lean downslope (-y) about the base line
+    // A point of the vertical fence (posts, net, support ropes) leaned by postTilt about the x axis
+    // at the ground: (y, z) -> (y cos t - z sin t, y sin t + z cos t); the ground line stays.
+    Eigen::Vector3d lean(const Eigen::Vector3d& x) const;
     double postArea = 53.83e-4, postIy = 3692e-8, postIz = 1336e-8, postJ = 20.98e-8;  // HEA 200
     double postNodeDiameter = 0.05;  // m (numerical contact sphere)
 

@@ -64,7 +64,7 @@ Json MeshWriter::metadata() const {
     j.set("atom_types", names(desc_.atomTypeNames)).set("bond_types", names(desc_.bondTypeNames));
     j.set("centre", Json::vec3(desc_.centre));
     Json normal = Json::array();
-    for (int i = 0; i < 3; ++i) normal.push(int(desc_.normal[i]));
+    for (int i = 0; i < 3; ++i) normal.push(desc_.normal[i]);
     j.set("normal", normal);
     Json panel = Json::object();
     panel.set("width", desc_.width).set("height", desc_.height);

@@ -470,6 +470,9 @@ BAD = [
     (["--rope-segment", "1e-6", "--post-node-diameter", "1e-9", "--support-rope-diameter", "1e-9"],
      "more than --max-nodes 5000000"),
     (["--colour", "red"], "unknown option --colour"),
+    (["--post-tilt", "45"], "--post-tilt must be >= 0 and < 45 degrees (got 45)"),
+    (["--post-tilt", "-1"], "--post-tilt must be >= 0 and < 45 degrees (got -1)"),
+    (["--post-tilt", "nan"], "--post-tilt must be a number (got nan)"),
 ]
 
 
@@ -481,6 +484,39 @@ def test_bad_input(tmp_path, args, message):
     assert len(lines) == 1 and lines[0].startswith("wirenet-gen fence: error: "), p.stderr
     assert message in lines[0], lines[0]
     assert list(tmp_path.iterdir()) == []
+
+
+def test_post_tilt_leans_posts_net_and_support_ropes_about_the_ground_line(tmp_path):
+    """--post-tilt t turns every part but the upslope ropes about the x axis at the ground:
+    (y, z) -> (y cos t - z sin t, y sin t + z cos t); the anchors on the ground stay, each
+    upslope rope runs straight from its leaned head to its anchor."""
+    small = ["--modules", "1", "--spacing", "4", "--height", "2", "--net", "hex",
+             "--anchor-distance", "2", "--bottom-anchor-distance", "1", "--upslope-distance", "3"]
+    gen(tmp_path, "fence", *small, "--out", "v")
+    gen(tmp_path, "fence", *small, "--post-tilt", "12", "--out", "t")
+    _, _, upright, _ = read_data(tmp_path / "v.data")
+    _, _, leaned, _ = read_data(tmp_path / "t.data")
+    mv, mt = json.loads((tmp_path / "v.json").read_text()), json.loads((tmp_path / "t.json").read_text())
+    t = math.radians(12.0)
+    turn = np.array([[1, 0, 0], [0, math.cos(t), -math.sin(t)], [0, math.sin(t), math.cos(t)]])
+    ids = upright[:, 0].astype(int)
+    upslope = {a for rope in mv["ropes"]["upslope"]["atoms"] for a in (rope if isinstance(rope, list) else [rope])}
+    upslope -= set(mv["post_heads"])                      # the heads lean with the posts
+    fixed_part = [i for i in ids if i not in upslope]
+    pos_v = {int(r[0]): r[2:5] for r in upright}
+    pos_t = {int(r[0]): r[2:5] for r in leaned}
+    for i in fixed_part:                                  # same IDs: built in the same order
+        assert np.allclose(pos_t[i], turn @ pos_v[i], atol=1e-9), i
+    for head in mt["post_heads"]:
+        assert pos_t[head][1] == pytest.approx(-2 * math.sin(t)) and pos_t[head][2] == pytest.approx(2 * math.cos(t))
+    for a in mt["anchors"]:
+        if a["name"].startswith("lateral"):
+            assert np.allclose(pos_t[a["id"]], pos_v[a["id"]], atol=1e-12)
+        else:
+            assert pos_t[a["id"]][1] == pytest.approx(3.0) and pos_t[a["id"]][2] == pytest.approx(0.0)
+    assert np.allclose(mt["normal"], [0, math.cos(t), math.sin(t)])
+    assert mt["impact_target"] == pytest.approx(list(turn @ np.array(mv["impact_target"])))
+    assert mt["fence"]["post_tilt_deg"] == 12
 
 
 def test_bad_out_leaves_no_file(tmp_path):

@@ -71,6 +71,7 @@ class EllipsoidShape : public BodyShape {
   double axes_[3];   // a, b, c
   double e_[3];      // sorted, descending
   int perm_[3];      // e_[k] = axes_[perm_[k]]
+  bool sphere_;      // a = b = c: the nearest point in closed form, not Eberly's root search
 };
 
 // Solid cone about local +z: base disc of radius R at z = 0, tip at z = h. Flat tip (default): a

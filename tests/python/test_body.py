@@ -82,6 +82,9 @@ def contact_cases():
     cases = []
     cases.append(("sphere", "sphere 0.3", (0.1, -0.2, 0.05), (1.0, 0, 0, 0),
                   0.3 * np.array([0.36, 0.48, 0.8]), np.array([0.36, 0.48, 0.8])))
+    # equal semi-axes: the spheroid's closed-form sphere branch (YADE's punch sphere)
+    cases.append(("spheroid-sphere", "spheroid 0.3 0.3 0.3", (0.1, -0.2, 0.05), from_z([0.3, -0.2, 1.0]),
+                  0.3 * np.array([-0.48, 0.36, -0.8]), np.array([-0.48, 0.36, -0.8])))
     # spheroid, axis tilted: the semi-spheroid platter's full spheroid
     a, b, c = 0.5, 0.5, 0.15
     th, ph = 0.7, 2.1

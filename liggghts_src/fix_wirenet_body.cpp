@@ -27,6 +27,7 @@
 #include "domain.h"
 #include "error.h"
 #include "memory.h"
+#include "neighbor.h"
 #include "update.h"
 
 using namespace LAMMPS_NS;
@@ -138,7 +139,8 @@ FixWirenetBody::FixWirenetBody(LAMMPS *lmp, int narg, char **arg) :
   elapsed(0.0), pos(Vector3d::Zero()), vel(Vector3d::Zero()), omega(Vector3d::Zero()),
   f_body(Vector3d::Zero()), t_body(Vector3d::Zero()), ncontact(0.0), elastic(0.0), work_body(0.0),
   work_body_mine(0.0), work_nodes_mine(0.0), work_nodes_all(0.0), f_mean(Vector3d::Zero()), reduced_at(-1),
-  hist(NULL), hist_rows(0), contacts_pending(false)
+  hist(NULL), hist_rows(0), contacts_pending(false), candidates_pos(Vector3d::Zero()),
+  candidates_valid(false), margin(0.0)
 {
   for (double &v : sums_mine) v = 0.0;
   windows.reset(1, 3);
@@ -309,7 +311,7 @@ void FixWirenetBody::parse(int narg, char **arg)
 
 int FixWirenetBody::setmask()
 {
-  return INITIAL_INTEGRATE | POST_FORCE | FINAL_INTEGRATE | END_OF_STEP;
+  return INITIAL_INTEGRATE | POST_FORCE | FINAL_INTEGRATE | END_OF_STEP | PRE_NEIGHBOR;
 }
 
 void FixWirenetBody::init()
@@ -320,6 +322,9 @@ void FixWirenetBody::init()
   if (strstr(update->integrate_style, "respa")) error->all(FLERR, (pre + "run_style respa is not supported").c_str());
   if (!atom->rmass_flag && !atom->mass)
     error->all(FLERR, (pre + "atoms need a mass").c_str());
+  // the candidate list relies on LIGGGHTS re-neighbouring before an atom moves half the skin
+  margin = (neighbor->every == 1 && neighbor->delay == 0 && neighbor->dist_check) ? neighbor->skin : 0.0;
+  candidates_valid = false;
 }
 
 void FixWirenetBody::update_pose()
@@ -382,9 +387,19 @@ void FixWirenetBody::compute_contacts(bool advance)
   const int nlocal = atom->nlocal;
   double sums[8] = { 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0 };
   contacts.clear();
+  if (!candidates_valid || (pos - candidates_pos).norm() > 0.5 * margin) {
+    candidates.clear();
+    const double reach = bounded ? bound + margin : std::numeric_limits<double>::infinity();
+    for (int i = 0; i < nlocal; i++) {
+      if (!(mask[i] & groupbit)) continue;
+      const double d = Vector3d(x[i][0] - pos[0], x[i][1] - pos[1], x[i][2] - pos[2]).norm();
+      if (!(d > reach + radius[i])) candidates.push_back(i);
+    }
+    candidates_pos = pos;
+    candidates_valid = margin > 0.0;
+  }
   WireNet::SurfacePoint sp;
-  for (int i = 0; i < nlocal; i++) {
-    if (!(mask[i] & groupbit)) continue;
+  for (const int i : candidates) {
     const Vector3d xi(x[i][0], x[i][1], x[i][2]);
     const Vector3d rel = xi - pos;
     const double r = radius[i];
@@ -636,5 +651,6 @@ int FixWirenetBody::maxsize_restart() { return NHIST + 1; }
 
 double FixWirenetBody::memory_usage()
 {
-  return (double)atom->nmax * NHIST * sizeof(double) + contacts.capacity() * sizeof(NodeContact);
+  return (double)atom->nmax * NHIST * sizeof(double) + contacts.capacity() * sizeof(NodeContact) +
+         candidates.capacity() * sizeof(int);
 }

@@ -37,6 +37,7 @@ class FixWirenetBody : public Fix {
   void setup(int);
   void initial_integrate(int);
   void post_force(int);
+  void pre_neighbor() { candidates_valid = false; }
   void final_integrate();
   void end_of_step();
   void reset_dt() {}
@@ -96,6 +97,15 @@ class FixWirenetBody : public Fix {
   int hist_rows;                       // rows of hist allocated (new rows start at zero)
   std::vector<NodeContact> contacts;   // this rank's contacts of the last post_force
   bool contacts_pending;               // contacts to account at end_of_step
+  // Nodes that can touch the body before the list is built again: within bounding radius + node
+  // radius + margin of the body's reference point when built. Built again after atoms moved
+  // between ranks or were re-sorted (pre_neighbor) and when the body has moved by half the
+  // margin; LIGGGHTS re-neighbours before any atom moves by half the skin (the margin), so no
+  // node outside the list can reach the body in between.
+  std::vector<int> candidates;
+  Eigen::Vector3d candidates_pos;
+  bool candidates_valid;
+  double margin;                       // the neighbour skin when LIGGGHTS checks every step, else 0
 
   void parse(int narg, char **arg);
   void update_pose();

@@ -258,6 +258,32 @@ def test_sliding_node_reaches_coulomb_limit(tmp_path):
     assert rows[-1]["p"]["w_nodes"] == 0.0    # the node does not move
 
 
+def test_a_moving_body_finds_nodes_that_never_moved(tmp_path):
+    """The fix searches contacts only among the nodes near the body, listed again when atoms are
+    re-neighboured and when the body has moved half the skin. Here nothing else moves (the nodes
+    are not integrated, so LIGGGHTS never re-neighbours): a sphere 0.3 m away arrives at 1 m/s
+    and must press every node of the 3 x 3 grid under it by its overlap, kn delta each."""
+    deck = header(1.0)
+    k = 0
+    for i in (-1, 0, 1):
+        for j in (-1, 0, 1):
+            k += 1
+            deck += node(k, (0.004 * i, 0.004 * j, 0.0), 0.002)
+    r, z0, v, dt, n = 0.2, 0.5, 1.0, 1e-5, 29900     # bottom of the sphere: 0.3 - v t
+    deck += (f"fix s all wirenet/body sphere {r} centre 0 0 {z0} kn {KN} vel 0 0 {-v}\n"
+             f"timestep {dt}\n" + thermo(["s"], 100) + f"run {n}\n")
+    rows = rows_of(lmp.run_deck(deck, tmp_path), ["s"])
+    bottom = z0 - r - v * n * dt
+    assert rows[-1]["s"]["n"] == 9
+    # each node's overlap: its radius minus its distance to the sphere's surface
+    centre = np.array([0.0, 0.0, z0 - v * n * dt])
+    fz = sum(KN * (0.002 - (np.linalg.norm(np.array([0.004 * i, 0.004 * j, 0.0]) - centre) - r))
+             * (centre[2] - 0.0) / np.linalg.norm(np.array([0.004 * i, 0.004 * j, 0.0]) - centre)
+             for i in (-1, 0, 1) for j in (-1, 0, 1))
+    assert rows[-1]["s"]["fz"] == pytest.approx(fz, rel=1e-9)      # the nodes push the body up
+    assert 0.0 < bottom < 0.002
+
+
 def test_kinematic_body_follows_its_prescribed_motion(tmp_path):
     v = np.array([0.3, -0.1, -1.2])
     w = np.array([0.0, 2.0, 1.0])

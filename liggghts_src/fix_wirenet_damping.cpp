@@ -15,7 +15,9 @@
 
 #include "atom.h"
 #include "comm.h"
+#include "domain.h"
 #include "error.h"
+#include "force.h"
 #include "modify.h"
 #include "update.h"
 
@@ -25,10 +27,11 @@ using namespace FixConst;
 static inline double sign_of(double v) { return (v > 0.0) - (v < 0.0); }
 
 FixWirenetDamping::FixWirenetDamping(LAMMPS *lmp, int narg, char **arg) :
-  Fix(lmp, narg, arg), alpha(0.0), rotational(false), tally(true), ndamped(-1)
+  Fix(lmp, narg, arg), alpha(0.0), rotational(false), tally(true), integrate(false), dtv(0.0), dtf(0.0),
+  ndamped(-1)
 {
-  if (narg != 4 && narg != 6)
-    error->all(FLERR, "fix wirenet/damping: expected 'fix ID GROUP wirenet/damping ALPHA [tally yes|no]'");
+  if (narg < 4 || narg % 2 != 0)
+    error->all(FLERR, "fix wirenet/damping: expected 'fix ID GROUP wirenet/damping ALPHA [tally yes|no] [integrate yes|no]'");
   char *end = NULL;
   errno = 0;
   alpha = strtod(arg[3], &end);
@@ -41,17 +44,19 @@ FixWirenetDamping::FixWirenetDamping(LAMMPS *lmp, int narg, char **arg) :
     error->all(FLERR, msg.c_str());
   }
 
-  if (narg == 6) {
-    if (strcmp(arg[4], "tally") != 0) {
-      std::string msg = std::string("fix wirenet/damping: unknown keyword '") + arg[4] + "' (expected tally)";
+  for (int k = 4; k + 1 < narg; k += 2) {
+    const bool is_tally = strcmp(arg[k], "tally") == 0, is_integrate = strcmp(arg[k], "integrate") == 0;
+    if (!is_tally && !is_integrate) {
+      std::string msg = std::string("fix wirenet/damping: unknown keyword '") + arg[k] + "' (expected tally or integrate)";
       error->all(FLERR, msg.c_str());
     }
-    if (strcmp(arg[5], "yes") != 0 && strcmp(arg[5], "no") != 0) {
-      std::string msg = std::string("fix wirenet/damping: tally must be yes or no (got '") + arg[5] + "')";
+    if (strcmp(arg[k + 1], "yes") != 0 && strcmp(arg[k + 1], "no") != 0) {
+      std::string msg = std::string("fix wirenet/damping: ") + arg[k] + " must be yes or no (got '" + arg[k + 1] + "')";
       error->all(FLERR, msg.c_str());
     }
-    tally = strcmp(arg[5], "yes") == 0;
+    (is_tally ? tally : integrate) = strcmp(arg[k + 1], "yes") == 0;
   }
+  time_integrate = integrate ? 1 : 0;
 
   // without the tally there is no work or impulse: a reference to f_ID stops the run (reduce_work)
   scalar_flag = 1;
@@ -68,7 +73,8 @@ FixWirenetDamping::FixWirenetDamping(LAMMPS *lmp, int narg, char **arg) :
 
 int FixWirenetDamping::setmask()
 {
-  return tally ? POST_FORCE | END_OF_STEP : POST_FORCE;
+  const int damping = integrate ? INITIAL_INTEGRATE | FINAL_INTEGRATE : POST_FORCE;
+  return tally ? damping | END_OF_STEP : damping;
 }
 
 void FixWirenetDamping::init()
@@ -76,6 +82,13 @@ void FixWirenetDamping::init()
   rotational = atom->torque_flag && atom->omega_flag;
   if (strstr(update->integrate_style, "respa"))
     error->all(FLERR, "fix wirenet/damping does not support run_style respa");
+  if (integrate) {
+    if (!atom->rmass_flag || !atom->radius_flag || !rotational)
+      error->all(FLERR, "fix wirenet/damping: 'integrate yes' needs spheres (per-atom mass, radius, angular velocity and torque, as nve/sphere)");
+    if (domain->dimension != 3) error->all(FLERR, "fix wirenet/damping: 'integrate yes' is for 3-d runs");
+    reset_dt();
+    return;   // it damps in final_integrate, when every force of the step is in
+  }
 
   // Forces added after this fix are not damped; say so for the usual suspects.
   int me = modify->find_fix(id);
@@ -103,6 +116,74 @@ void FixWirenetDamping::post_force(int)
 {
   if (tally) damp<true>();
   else damp<false>();
+}
+
+void FixWirenetDamping::reset_dt()
+{
+  dtv = update->dt;
+  dtf = 0.5 * update->dt * force->ftm2v;
+}
+
+// integrate: the first half kick and the drift, with the damped force of the last step (as
+// nve/sphere, the same arithmetic: I = 0.4 m r^2)
+void FixWirenetDamping::initial_integrate(int)
+{
+  const int nlocal = atom->nlocal;
+  const int *mask = atom->mask;
+  double **x = atom->x, **v = atom->v, **f = atom->f, **w = atom->omega, **t = atom->torque;
+  const double *rmass = atom->rmass, *radius = atom->radius;
+  const double dtfrotate = dtf / 0.4;
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    const double dtfm = dtf / rmass[i];
+    for (int k = 0; k < 3; k++) v[i][k] += dtfm * f[i][k];
+    for (int k = 0; k < 3; k++) x[i][k] += dtv * v[i][k];
+    const double dtirotate = dtfrotate / (radius[i] * radius[i] * rmass[i]);
+    for (int k = 0; k < 3; k++) w[i][k] += dtirotate * t[i][k];
+  }
+}
+
+void FixWirenetDamping::final_integrate()
+{
+  if (tally) damp_and_kick<true>();
+  else damp_and_kick<false>();
+}
+
+// integrate: every force of the step is in (post_force is over): damp it against the half-step
+// velocity, as the post_force pass does, keep the damped force for the next first half kick,
+// and give the second half kick, in one pass over the atoms
+template <bool TALLY>
+void FixWirenetDamping::damp_and_kick()
+{
+  const int nlocal = atom->nlocal;
+  const int *mask = atom->mask;
+  double **v = atom->v, **f = atom->f, **w = atom->omega, **t = atom->torque;
+  const double *rmass = atom->rmass, *radius = atom->radius;
+  const double a = alpha, dtfrotate = dtf / 0.4;
+  if (TALLY && fdamp.size() < 6 * (size_t)nlocal) fdamp.resize(6 * (size_t)nlocal);
+  double scratch[6];
+  double *fd = TALLY ? fdamp.data() : scratch;
+  for (int i = 0; i < nlocal; i++, fd += TALLY ? 6 : 0) {
+    if (!(mask[i] & groupbit)) {
+      if (TALLY)
+        for (int k = 0; k < 6; k++) fd[k] = 0.0;
+      continue;
+    }
+    double *fi = f[i], *vi = v[i], *ti = t[i], *wi = w[i];
+    const double dtfm = dtf / rmass[i];
+    for (int k = 0; k < 3; k++) {
+      fd[k] = -a * fabs(fi[k]) * sign_of(vi[k]);
+      fi[k] += fd[k];
+      vi[k] += dtfm * fi[k];
+    }
+    const double dtirotate = dtfrotate / (radius[i] * radius[i] * rmass[i]);
+    for (int k = 0; k < 3; k++) {
+      fd[3 + k] = -a * fabs(ti[k]) * sign_of(wi[k]);
+      ti[k] += fd[3 + k];
+      wi[k] += dtirotate * ti[k];
+    }
+  }
+  if (TALLY) ndamped = nlocal;
 }
 
 // The damping of every atom of the group; TALLY keeps each atom's damping force and torque for

@@ -22,6 +22,9 @@ class FixWirenetDamping : public Fix {
   void init();
   void setup(int);
   void post_force(int);
+  void initial_integrate(int);
+  void final_integrate();
+  void reset_dt();
   void end_of_step();
   double compute_scalar();
   double compute_vector(int);
@@ -32,7 +35,13 @@ class FixWirenetDamping : public Fix {
   double alpha;
   bool rotational;            // the atom style has torque and omega
   bool tally;                 // keep the work and impulse (keyword tally, default yes)
+  // keyword integrate: the fix is also the velocity-Verlet integrator of its atoms (as
+  // nve/sphere) and damps in the same pass as the second half kick: one pass over force,
+  // velocity, torque and angular velocity instead of two (both passes are bound by memory)
+  bool integrate;
+  double dtv, dtf;            // integrate: dt and dt/2
   template <bool TALLY> void damp();
+  template <bool TALLY> void damp_and_kick();
   // Damping force and torque of this step per local atom (6 doubles each), kept from post_force
   // to end_of_step, when the velocities of the same instant are known.
   std::vector<double> fdamp;

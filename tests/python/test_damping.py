@@ -211,3 +211,34 @@ def test_tally_no_damps_the_same_and_has_no_work_to_output(tmp_path):
                               tmp_path / "ref")
     assert rc != 0 and lmp.error_lines(out) and "fix wirenet/damping: fix damp keeps no work or " \
         "impulse (tally no); give it 'tally yes' to output f_damp" in lmp.error_lines(out)[0], out[-800:]
+
+
+def test_integrate_yes_is_nve_sphere_with_the_damping_to_the_bit(tmp_path):
+    """`integrate yes`: the fix is the integrator too and damps in the same pass as the second
+    half kick, after every post_force fix. A shaken rope under gravity, its anchors held by
+    fix wirenet/hold (their v stays 0: the damping leaves them alone in either order): the
+    trajectory, the support reaction and the damping's work and impulse are those of
+    nve/sphere + wirenet/damping, bit for bit."""
+    import test_hold as rope
+    rope.rope_data(tmp_path / "rope.data")
+    out = ('fix out all print 100 "P $(x[3]) $(z[5]) $(vz[5]) $(omegax[4]) $(f_h[3]) '
+           '$(f_damp) $(f_damp[2]) $(f_damp[5])" screen yes')
+    base = rope.deck(["fix damp all wirenet/damping 0.4", "fix h ends wirenet/hold 0 0 0", out],
+                     steps=3000).replace("fix integ inner nve/sphere", "fix integ all nve/sphere")
+    fused = base.replace("fix integ all nve/sphere\n", "") \
+                .replace("wirenet/damping 0.4", "wirenet/damping 0.4 integrate yes")
+    assert "nve/sphere" not in fused and "integrate yes" in fused
+    a = rope.numbers(lmp.run_deck(base, tmp_path, name="in.two"), "P")
+    b = rope.numbers(lmp.run_deck(fused, tmp_path, name="in.one"), "P")
+    assert len(a) == 30 and np.array_equal(a, b)
+    assert a[-1, 5] < 0.0 and np.abs(a[:, 1] - a[0, 1]).max() > 1e-6    # it moved, and damped
+
+
+def test_integrate_needs_spheres(tmp_path):
+    deck = ("units si\natom_style atomic\natom_modify map array\nboundary f f f\n"
+            "region b block -1 1 -1 1 -1 1\ncreate_box 1 b\n"
+            "mass 1 1.0\ncreate_atoms 1 single 0 0 0\n"
+            "fix damp all wirenet/damping 0.3 integrate yes\nrun 1\n")
+    rc, out = lmp.run_deck_rc(deck, tmp_path)
+    errors = lmp.error_lines(out)
+    assert rc != 0 and len(errors) == 1 and "'integrate yes' needs spheres" in errors[0], out[-1500:]

@@ -114,8 +114,8 @@ void FixWirenetDamping::setup(int vflag)
 
 void FixWirenetDamping::post_force(int)
 {
-  if (tally) damp<true>();
-  else damp<false>();
+  if (tally) damp<true, false>();
+  else damp<false, false>();
 }
 
 void FixWirenetDamping::reset_dt()
@@ -145,51 +145,16 @@ void FixWirenetDamping::initial_integrate(int)
 
 void FixWirenetDamping::final_integrate()
 {
-  if (tally) damp_and_kick<true>();
-  else damp_and_kick<false>();
-}
-
-// integrate: every force of the step is in (post_force is over): damp it against the half-step
-// velocity, as the post_force pass does, keep the damped force for the next first half kick,
-// and give the second half kick, in one pass over the atoms
-template <bool TALLY>
-void FixWirenetDamping::damp_and_kick()
-{
-  const int nlocal = atom->nlocal;
-  const int *mask = atom->mask;
-  double **v = atom->v, **f = atom->f, **w = atom->omega, **t = atom->torque;
-  const double *rmass = atom->rmass, *radius = atom->radius;
-  const double a = alpha, dtfrotate = dtf / 0.4;
-  if (TALLY && fdamp.size() < 6 * (size_t)nlocal) fdamp.resize(6 * (size_t)nlocal);
-  double scratch[6];
-  double *fd = TALLY ? fdamp.data() : scratch;
-  for (int i = 0; i < nlocal; i++, fd += TALLY ? 6 : 0) {
-    if (!(mask[i] & groupbit)) {
-      if (TALLY)
-        for (int k = 0; k < 6; k++) fd[k] = 0.0;
-      continue;
-    }
-    double *fi = f[i], *vi = v[i], *ti = t[i], *wi = w[i];
-    const double dtfm = dtf / rmass[i];
-    for (int k = 0; k < 3; k++) {
-      fd[k] = -a * fabs(fi[k]) * sign_of(vi[k]);
-      fi[k] += fd[k];
-      vi[k] += dtfm * fi[k];
-    }
-    const double dtirotate = dtfrotate / (radius[i] * radius[i] * rmass[i]);
-    for (int k = 0; k < 3; k++) {
-      fd[3 + k] = -a * fabs(ti[k]) * sign_of(wi[k]);
-      ti[k] += fd[3 + k];
-      wi[k] += dtirotate * ti[k];
-    }
-  }
-  if (TALLY) ndamped = nlocal;
+  if (tally) damp<true, true>();
+  else damp<false, true>();
 }
 
 // The damping of every atom of the group; TALLY keeps each atom's damping force and torque for
 // end_of_step (the work and impulse), a 48-byte write per atom that a run without the budget
-// does not need.
-template <bool TALLY>
+// does not need. KICK (integrate yes, from final_integrate: every force of the step is in) also
+// gives the second half kick with the damped force in the same pass; the damped force stays in
+// the atom's force for the next step's first half kick.
+template <bool TALLY, bool KICK>
 void FixWirenetDamping::damp()
 {
   const int nlocal = atom->nlocal;
@@ -198,7 +163,8 @@ void FixWirenetDamping::damp()
   // would make the compiler reload them at every atom
   double **f = atom->f, **v = atom->v;
   double **t = rotational ? atom->torque : NULL, **w = rotational ? atom->omega : NULL;
-  const double a = alpha;
+  const double *rmass = KICK ? atom->rmass : NULL, *radius = KICK ? atom->radius : NULL;
+  const double a = alpha, dtfrotate = dtf / 0.4;   // nve/sphere's I = 0.4 m r^2
   // every entry is written below: grow only, no clearing pass
   if (TALLY && fdamp.size() < 6 * (size_t)nlocal) fdamp.resize(6 * (size_t)nlocal);
   double scratch[6];
@@ -209,21 +175,23 @@ void FixWirenetDamping::damp()
         for (int k = 0; k < 6; k++) fd[k] = 0.0;
       continue;
     }
-    double *fi = f[i];
-    const double *vi = v[i];
+    double *fi = f[i], *vi = v[i];
+    const double dtfm = KICK ? dtf / rmass[i] : 0.0;
     for (int k = 0; k < 3; k++) {
       fd[k] = -a * fabs(fi[k]) * sign_of(vi[k]);
       fi[k] += fd[k];
+      if (KICK) vi[k] += dtfm * fi[k];
     }
     if (!t) {
       if (TALLY) fd[3] = fd[4] = fd[5] = 0.0;
       continue;
     }
-    double *ti = t[i];
-    const double *wi = w[i];
+    double *ti = t[i], *wi = w[i];
+    const double dtirotate = KICK ? dtfrotate / (radius[i] * radius[i] * rmass[i]) : 0.0;
     for (int k = 0; k < 3; k++) {
       fd[3 + k] = -a * fabs(ti[k]) * sign_of(wi[k]);
       ti[k] += fd[3 + k];
+      if (KICK) wi[k] += dtirotate * ti[k];
     }
   }
   if (TALLY) ndamped = nlocal;

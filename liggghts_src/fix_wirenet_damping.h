@@ -40,8 +40,7 @@ class FixWirenetDamping : public Fix {
   // velocity, torque and angular velocity instead of two (both passes are bound by memory)
   bool integrate;
   double dtv, dtf;            // integrate: dt and dt/2
-  template <bool TALLY> void damp();
-  template <bool TALLY> void damp_and_kick();
+  template <bool TALLY, bool KICK> void damp();
   // Damping force and torque of this step per local atom (6 doubles each), kept from post_force
   // to end_of_step, when the velocities of the same instant are known.
   std::vector<double> fdamp;

@@ -492,6 +492,7 @@ int runFence(const std::vector<std::string>& args) {
     o.addInt("ties", 0, 0, "compound: tie every k-th interior crossing to the nearest hex node; 0 = none");
     o.addNumber("shackle-gap", 0.05, "m", "gap between a net edge and its support rope or post (panel = spacing - 2 gap by height - 2 gap)");
     o.addString("side-shackles", "post", "module sides: post (shackled to the neighbouring post) or none (free)");
+    o.addString("head-guides", "slide", "top rope at the post heads: slide (through a guide, a shackle) or clamp (fixed to the head)");
     o.addNumber("rope-segment", 0.5, "m", "target bond length of the support and upslope ropes");
     o.addNumber("support-rope-diameter", 0.022, "m", "top and bottom support rope diameter");
     o.addNumber("upslope-rope-diameter", 0.022, "m", "upslope rope diameter");
@@ -544,6 +545,10 @@ int runFence(const std::vector<std::string>& args) {
     if (side != "post" && side != "none")
         throw UsageError("--side-shackles must be post or none (got " + side + ")");
     p.sideShackles = side == "post";
+    const std::string& guides = o.str("head-guides");
+    if (guides != "slide" && guides != "clamp")
+        throw UsageError("--head-guides must be slide or clamp (got " + guides + ")");
+    p.clampHeads = guides == "clamp";
     p.ropeSegment = o.num("rope-segment");
     p.supportDiameter = o.num("support-rope-diameter");
     p.upslopeDiameter = o.num("upslope-rope-diameter");

@@ -166,10 +166,31 @@ FenceModel Fence::build() const {
                        supportRope("top", H, p_.anchorDistance, p_.topLegBonds(), fmol::TopRope)});
     f.ropes.push_back({kBottom, "bottom_support", "support_rope",
                        supportRope("bottom", 0.0, p_.bottomAnchorDistance, p_.bottomLegBonds(), fmol::BottomRope)});
-    // The rope runs through a guide on each post head and past each post base: shackles.
+    // The rope runs past each post base (a shackle) and through a guide on each post head: a
+    // shackle too, or, clamped, the head joins the rope: the rope bond it sits on is split there.
     for (int i = 0; i <= N; ++i) {
-        f.shackles.push_back({f.postHeads[i], kTop});
         f.shackles.push_back({f.postBases[i], kBottom});
+        if (!p_.clampHeads) {
+            f.shackles.push_back({f.postHeads[i], kTop});
+            continue;
+        }
+        // the rope bond nearest the head (its midpoint, or at an end post the bond where the
+        // rope turns down to the anchor) becomes two bonds through the head
+        std::vector<int>& top = f.ropes.front().atoms;
+        const Eigen::Vector3d head = m.nodes[f.postHeads[i]].x;
+        size_t best = 0;
+        double dmin = 1e300;
+        for (size_t k = 0; k + 1 < top.size(); ++k) {
+            const double d = distanceToSegment(head, m.nodes[top[k]].x, m.nodes[top[k + 1]].x);
+            if (d < dmin) { dmin = d; best = k; }
+        }
+        size_t bond = m.bonds.size();
+        for (size_t j = 0; j < m.bonds.size(); ++j)
+            if (m.bonds[j].a == top[best] && m.bonds[j].b == top[best + 1]) bond = j;
+        const int type = m.bonds[bond].type;
+        m.bonds[bond].b = f.postHeads[i];
+        m.bonds.push_back({type, f.postHeads[i], top[best + 1]});
+        top.insert(top.begin() + long(best) + 1, f.postHeads[i]);
     }
     if (p_.sideShackles) f.ropes.insert(f.ropes.end(), postRopes.begin(), postRopes.end());
 

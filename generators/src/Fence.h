@@ -41,6 +41,7 @@ struct FenceParams {
     CompoundParams panel;            // hex / square parameters and ties; width/height set by the fence
     double shackleGap = 0.05;        // net edge to its rope or post, m
     bool sideShackles = true;        // module sides shackled to the posts
+    bool clampHeads = false;         // the top rope clamped at the post heads (else it slides through)
     double ropeSegment = 0.5;        // target rope bond length, m
     double supportDiameter = 0.022, upslopeDiameter = 0.022;  // m
     double fill = 0.65;              // metallic fill factor of the wire ropes

@@ -17,7 +17,11 @@ static std::string g(double v) {
 }
 
 void MeshWriter::writeData(std::ostream& os) const {
-    os << "LIGGGHTS data file from wirenet-gen " << desc_.command << "\n\n";
+    // LIGGGHTS reads the title line into a 256-byte buffer and takes the rest of a longer one
+    // for the next line ("Unknown identifier in data file"); the whole command is in the JSON
+    std::string title = "LIGGGHTS data file from wirenet-gen " + desc_.command;
+    if (title.size() > 200) title = title.substr(0, 196) + " ...";
+    os << title << "\n\n";
     os << model_.nodes.size() << " atoms\n" << model_.bonds.size() << " bonds\n";
     os << desc_.atomTypes << " atom types\n" << desc_.bondTypes << " bond types\n\n";
     const char* axis[3] = {"x", "y", "z"};

@@ -471,6 +471,7 @@ BAD = [
      "more than --max-nodes 5000000"),
     (["--colour", "red"], "unknown option --colour"),
     (["--post-tilt", "45"], "--post-tilt must be >= 0 and < 45 degrees (got 45)"),
+    (["--head-guides", "glue"], "--head-guides must be slide or clamp (got glue)"),
     (["--post-tilt", "-1"], "--post-tilt must be >= 0 and < 45 degrees (got -1)"),
     (["--post-tilt", "nan"], "--post-tilt must be a number (got nan)"),
 ]
@@ -517,6 +518,37 @@ def test_post_tilt_leans_posts_net_and_support_ropes_about_the_ground_line(tmp_p
     assert np.allclose(mt["normal"], [0, math.cos(t), math.sin(t)])
     assert mt["impact_target"] == pytest.approx(list(turn @ np.array(mv["impact_target"])))
     assert mt["fence"]["post_tilt_deg"] == 12
+
+
+def test_clamped_heads_join_the_top_rope(tmp_path):
+    """--head-guides clamp: each post head is an atom of the top rope (the rope bond it sat on
+    split in two through it) instead of a shackle sliding on it: one bond more and one shackle
+    less per post, the same atoms."""
+    small = ["--modules", "2", "--spacing", "4", "--height", "2", "--net", "hex",
+             "--anchor-distance", "2", "--bottom-anchor-distance", "1", "--upslope-distance", "3"]
+    gen(tmp_path, "fence", *small, "--out", "s")
+    gen(tmp_path, "fence", *small, "--head-guides", "clamp", "--out", "c")
+    hs, _, atoms_s, bonds_s = read_data(tmp_path / "s.data")
+    hc, _, atoms_c, bonds_c = read_data(tmp_path / "c.data")
+    meta = json.loads((tmp_path / "c.json").read_text())
+    heads = meta["post_heads"]
+    assert hc["atoms"] == hs["atoms"] and hc["bonds"] == hs["bonds"] + len(heads)
+    ropes_s, shackles_s = read_shackles(tmp_path / "s.shackles")
+    ropes_c, shackles_c = read_shackles(tmp_path / "c.shackles")
+    assert len(shackles_c) == len(shackles_s) - len(heads)
+    assert not set(heads) & {a for a, _ in shackles_c}
+    # a long command line: the title stays within LIGGGHTS' 256-byte line (the rest would be read
+    # as the next line of the header)
+    deep = tmp_path / ("folder_" + "d" * 120)
+    deep.mkdir()
+    gen(tmp_path, "fence", *small, "--head-guides", "clamp", "--post-tilt", "10", "--out", str(deep / "c"))
+    title = (deep / "c.data").read_text().splitlines()[0]
+    assert len(title) <= 200 and title.endswith(" ...")
+    top = ropes_c[1]
+    assert all(h in top for h in heads) and len(top) == len(ropes_s[1]) + len(heads)
+    pairs = {frozenset((int(b[2]), int(b[3]))): int(b[1]) for b in bonds_c}
+    for a, b in zip(top, top[1:]):                         # a chain of rope or brake bonds
+        assert pairs[frozenset((a, b))] in (5, 6), (a, b)
 
 
 def test_bad_out_leaves_no_file(tmp_path):

@@ -273,10 +273,7 @@ void FixWirenetBody::parse(int narg, char **arg)
       gravity = vector3(narg, arg, k, key);
       have_gravity = true;
     } else if (key == "mean") {
-      const double n = value(narg, arg, k, key, 1.0, false);
-      if (n != static_cast<double>(static_cast<int>(n)) || n > 1e9)
-        throw std::invalid_argument("'mean' must be an integer >= 1 (got " + text(n) + ")");
-      windows.reset(static_cast<int>(n), 3);
+      windows.reset(FixArgs::steps(narg, arg, k, key), 3);
     } else {
       throw std::invalid_argument("unknown keyword '" + key + "'");
     }

@@ -34,14 +34,6 @@ bool parse_component(const char *s, const char *axis)
                               "' (a prescribed non-zero force is fix setforce's or fix addforce's job)");
 }
 
-int positive_int(int narg, char **arg, int &k, const std::string &key)
-{
-  const std::string given = k + 1 < narg ? arg[k + 1] : "";
-  const double v = WireNet::FixArgs::value(narg, arg, k, key, 1.0, false);
-  if (v != static_cast<double>(static_cast<int>(v)) || v > 1e9)
-    throw std::invalid_argument("'" + key + "' must be an integer >= 1 (got '" + given + "')");
-  return static_cast<int>(v);
-}
 
 }  // namespace
 
@@ -57,7 +49,7 @@ FixWirenetHold::FixWirenetHold(LAMMPS *lmp, int narg, char **arg)
     for (int k = 6; k < narg;) {
       const std::string key = arg[k];
       if (key == "mean") {
-        width = positive_int(narg, arg, k, key);
+        width = WireNet::FixArgs::steps(narg, arg, k, key);
       } else if (key == "each") {
         each = true;
         k++;

@@ -32,6 +32,15 @@ double value(int narg, char **arg, int &k, const std::string &key, double lo, bo
   return v;
 }
 
+int steps(int narg, char **arg, int &k, const std::string &key)
+{
+  const std::string given = k + 1 < narg ? arg[k + 1] : "";
+  const double v = value(narg, arg, k, key, 1.0, false);
+  if (v != static_cast<double>(static_cast<int>(v)) || v > 1e9)
+    throw std::invalid_argument("'" + key + "' must be a whole number of steps, 1 to 1e9 (got '" + given + "')");
+  return static_cast<int>(v);
+}
+
 Eigen::Vector3d vector3(int narg, char **arg, int &k, const std::string &key)
 {
   if (k + 3 >= narg) throw std::invalid_argument("'" + key + "' needs 3 values");

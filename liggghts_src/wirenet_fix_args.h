@@ -15,6 +15,8 @@ namespace FixArgs {
 double number(const char *s, const std::string &what);
 // the value after keyword arg[k], finite and > lo (lo_open) or >= lo; k advances past it
 double value(int narg, char **arg, int &k, const std::string &key, double lo, bool lo_open);
+// the value after keyword arg[k] as a whole number of steps, 1 .. 1e9; k advances past it
+int steps(int narg, char **arg, int &k, const std::string &key);
 // the three values after keyword arg[k]; k advances past them
 Eigen::Vector3d vector3(int narg, char **arg, int &k, const std::string &key);
 // the six values Ixx Iyy Izz Ixy Ixz Iyz after keyword arg[k] as a symmetric tensor

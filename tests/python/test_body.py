@@ -483,6 +483,9 @@ def test_restart_continues_the_trajectory(tmp_path):
 
 BAD = {
     "unknown keyword": ("sphere 0.1 kn 1e6 spin 3", "unknown keyword 'spin'"),
+    "mean zero": ("sphere 0.1 kn 1e6 mean 0", "mean must be >= 1 (got 0)"),
+    "mean fraction": ("sphere 0.1 kn 1e6 mean 2.5", "'mean' must be a whole number of steps, 1 to 1e9 (got '2.5')"),
+    "mean missing": ("sphere 0.1 kn 1e6 mean", "'mean' needs a value"),
     "unknown shape": ("cube 0.1 kn 1e6", "unknown shape 'cube'"),
     "missing kn": ("sphere 0.1", "missing 'kn K'"),
     "negative kn": ("sphere 0.1 kn -5", "kn must be > 0 (got -5)"),

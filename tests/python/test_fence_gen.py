@@ -487,21 +487,24 @@ def test_bad_input(tmp_path, args, message):
     assert list(tmp_path.iterdir()) == []
 
 
+# a small fence (two 4 m x 2 m hexagonal modules) for the layout options' checks
+SMALL = ["--modules", "2", "--spacing", "4", "--height", "2", "--net", "hex",
+         "--anchor-distance", "2", "--bottom-anchor-distance", "1", "--upslope-distance", "3"]
+
+
 def test_post_tilt_leans_posts_net_and_support_ropes_about_the_ground_line(tmp_path):
     """--post-tilt t turns every part but the upslope ropes about the x axis at the ground:
     (y, z) -> (y cos t - z sin t, y sin t + z cos t); the anchors on the ground stay, each
     upslope rope runs straight from its leaned head to its anchor."""
-    small = ["--modules", "1", "--spacing", "4", "--height", "2", "--net", "hex",
-             "--anchor-distance", "2", "--bottom-anchor-distance", "1", "--upslope-distance", "3"]
-    gen(tmp_path, "fence", *small, "--out", "v")
-    gen(tmp_path, "fence", *small, "--post-tilt", "12", "--out", "t")
+    gen(tmp_path, "fence", *SMALL, "--out", "v")
+    gen(tmp_path, "fence", *SMALL, "--post-tilt", "12", "--out", "t")
     _, _, upright, _ = read_data(tmp_path / "v.data")
     _, _, leaned, _ = read_data(tmp_path / "t.data")
     mv, mt = json.loads((tmp_path / "v.json").read_text()), json.loads((tmp_path / "t.json").read_text())
     t = math.radians(12.0)
     turn = np.array([[1, 0, 0], [0, math.cos(t), -math.sin(t)], [0, math.sin(t), math.cos(t)]])
     ids = upright[:, 0].astype(int)
-    upslope = {a for rope in mv["ropes"]["upslope"]["atoms"] for a in (rope if isinstance(rope, list) else [rope])}
+    upslope = {a for rope in mv["ropes"]["upslope"]["atoms"] for a in rope}
     upslope -= set(mv["post_heads"])                      # the heads lean with the posts
     fixed_part = [i for i in ids if i not in upslope]
     pos_v = {int(r[0]): r[2:5] for r in upright}
@@ -524,12 +527,10 @@ def test_clamped_heads_join_the_top_rope(tmp_path):
     """--head-guides clamp: each post head is an atom of the top rope (the rope bond it sat on
     split in two through it) instead of a shackle sliding on it: one bond more and one shackle
     less per post, the same atoms."""
-    small = ["--modules", "2", "--spacing", "4", "--height", "2", "--net", "hex",
-             "--anchor-distance", "2", "--bottom-anchor-distance", "1", "--upslope-distance", "3"]
-    gen(tmp_path, "fence", *small, "--out", "s")
-    gen(tmp_path, "fence", *small, "--head-guides", "clamp", "--out", "c")
-    hs, _, atoms_s, bonds_s = read_data(tmp_path / "s.data")
-    hc, _, atoms_c, bonds_c = read_data(tmp_path / "c.data")
+    gen(tmp_path, "fence", *SMALL, "--out", "s")
+    gen(tmp_path, "fence", *SMALL, "--head-guides", "clamp", "--out", "c")
+    hs = read_data(tmp_path / "s.data")[0]
+    hc, _, _, bonds_c = read_data(tmp_path / "c.data")
     meta = json.loads((tmp_path / "c.json").read_text())
     heads = meta["post_heads"]
     assert hc["atoms"] == hs["atoms"] and hc["bonds"] == hs["bonds"] + len(heads)
@@ -541,7 +542,7 @@ def test_clamped_heads_join_the_top_rope(tmp_path):
     # as the next line of the header)
     deep = tmp_path / ("folder_" + "d" * 120)
     deep.mkdir()
-    gen(tmp_path, "fence", *small, "--head-guides", "clamp", "--post-tilt", "10", "--out", str(deep / "c"))
+    gen(tmp_path, "fence", *SMALL, "--head-guides", "clamp", "--post-tilt", "10", "--out", str(deep / "c"))
     title = (deep / "c.data").read_text().splitlines()[0]
     assert len(title) <= 200 and title.endswith(" ...")
     top = ropes_c[1]

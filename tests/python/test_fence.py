@@ -10,20 +10,35 @@ under gravity with local damping for 1 s. Then:
   (some tens of shackles still slide at the friction limit after 1 s: about 2 % of the weight
   in y, 0.6 % in z, in 0.1 s window means);
 - no wire tears.
+A 100 kg block (the truncated cube, 0.35 m) then hits the middle of the module at 5 m/s (1.25 kJ; at 6 m/s it tears through)
+against the fence normal (include/fence_impact.in), and for 0.3 s:
+- the energy budget (block, fence, bonds, wire and brake plastic work, shackle springs,
+  friction, damping, contacts) closes within 1e-3 of the block's energy;
+- the momentum of block and fence changes by the impulse of the supports, gravity and damping,
+  within 1e-3 of the block's momentum;
+- the fence stops the block (its velocity along the normal turns), the terms of the budget that
+  this fence must use are active (plastic work, shackle friction, damping), and the per-anchor
+  rows add up to the total and are mirror images about the module's centre line.
 """
 
 import json
 import math
+import pathlib
 
 import numpy as np
 import pytest
 
 import lmp
+from postprocess import fence
 
 FENCE = ["--modules", "1", "--spacing", "4", "--height", "2", "--net", "hex",
          "--anchor-distance", "2", "--bottom-anchor-distance", "1", "--upslope-distance", "3",
          "--post-elements", "4", "--post-tilt", "10", "--head-guides", "clamp"]
 DT, STEPS, EVERY = 4e-6, 250000, 25000
+# the block: wirenet-gen shape truncated-cube; contact stiffness 1e7 N/m (the fence cases'
+# penalty, doc/fence.md), local damping 0.1 during the impact
+BLOCK = dict(side=0.35, mass=100.0, speed=5.0)
+IMPACT_STEPS, IMPACT_EVERY = 75000, 2500
 
 
 def generate(folder):
@@ -34,13 +49,32 @@ def generate(folder):
     return prefix, json.loads((folder / "fence.json").read_text())
 
 
-def settle(folder, np=1, extra=()):
+def block(folder, meta):
+    """The block's deck variables: a face towards the fence (body z turned onto the normal,
+    which leans by the posts' tilt about x), moving against the normal."""
+    import subprocess
+    subprocess.run([str(lmp.GEN), "shape", "truncated-cube", "--side", str(BLOCK["side"]),
+                    "--mass", str(BLOCK["mass"]), "--out", str(folder / "block.stl")],
+                   check=True, capture_output=True, text=True)
+    inertia = json.loads((folder / "block.json").read_text())["inertia"]
+    turn = math.radians(meta["fence"]["post_tilt_deg"]) - math.pi / 2
+    (tx, ty, tz), (nx, ny, nz) = meta["impact_target"], meta["normal"]
+    return dict(steps=IMPACT_STEPS, block_side=BLOCK["side"], mass=BLOCK["mass"],
+                speed=BLOCK["speed"], ixx=inertia[0][0], iyy=inertia[1][1], izz=inertia[2][2],
+                quat=f"\"{math.cos(turn / 2)} {math.sin(turn / 2)} 0 0\"", target_x=tx,
+                target_y=ty, target_z=tz, normal_x=nx, normal_y=ny, normal_z=nz, foot_r=0.5,
+                kn=1e7, ks=1e6, alpha=0.1)
+
+
+def settle(folder, np=1, extra=(), impact=True):
     prefix, meta = generate(folder)
     section = meta["posts"]["section"]
     var = dict(inc=lmp.ROOT / "inputs" / "include", data=f"{prefix}.data", shackles=f"{prefix}.shackles",
                support_d=meta["ropes"]["support"]["diameter"], upslope_d=meta["ropes"]["upslope"]["diameter"],
                post_A=section["A"], post_Iy=section["Iy"], post_Iz=section["Iz"], post_J=section["J"],
                ghost=2.5 * meta["max_bond_length"], dt=DT, relax_steps=STEPS, every=EVERY, out=folder)
+    if impact:
+        var.update(block(folder, meta), every=IMPACT_EVERY, relax_steps=STEPS // IMPACT_EVERY * IMPACT_EVERY)
     # index variables defined first win over the deck's own defaults, as -var does
     deck = "".join(f"variable {k} index {v}\n" for k, v in var.items())
     deck += (lmp.ROOT / "inputs" / "fence.in").read_text()
@@ -50,16 +84,78 @@ def settle(folder, np=1, extra=()):
 @pytest.fixture(scope="module")
 def hung(tmp_path_factory):
     folder = tmp_path_factory.mktemp("fence")
-    return settle(folder)
+    meta, out = settle(folder)
+    meta["_folder"] = str(folder)
+    return meta, out
 
 
 def test_the_supports_carry_the_weight_at_rest(hung):
     meta, out = hung
-    rows = lmp.thermo_rows(out)
-    last = rows[-1]
+    last = [row for row in lmp.thermo_rows(out) if "weight" in row][-1]   # the settling's
     weight = meta["total_mass"] * 9.81
     assert last["weight"] == pytest.approx(weight, rel=1e-9)
     assert last["ke"] < 1e-4 * weight * 1.0                  # at rest (J against N x 1 m)
     assert last["rz"] == pytest.approx(weight, rel=0.01)
     assert abs(last["rx"]) < 0.002 * weight and abs(last["ry"]) < 0.03 * weight
     assert last["broken"] == 0
+
+
+# ---- the impact ---------------------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def impact(hung, tmp_path_factory):
+    meta, out = hung
+    folder = pathlib.Path(meta["_folder"])
+    return meta, fence.read_table(folder), folder
+
+
+def test_the_energy_budget_closes(impact):
+    meta, t, _ = impact
+    terms, total, e0, error = fence.energy_budget(t)
+    # the block, plus the elastic energy the fence holds at rest
+    assert e0 == pytest.approx(0.5 * BLOCK["mass"] * BLOCK["speed"] ** 2, rel=2e-3)
+    assert np.max(np.abs(error)) < 1e-3
+    # the fence's own dissipators are at work (J)
+    assert terms["w_plastic"][-1] > 0.02 * e0          # wires (and brakes, if they slide)
+    assert terms["friction"][-1] > 0.01 * e0           # shackles sliding along the ropes
+    assert terms["damping"][-1] > 0.05 * e0
+    assert np.max(terms["e_shackle"]) > 0 and np.max(terms["e_elastic"]) > 0.1 * e0
+
+
+def test_the_momentum_balances(impact):
+    meta, t, _ = impact
+    gap = fence.momentum_balance(t, BLOCK["mass"], meta["total_mass"], 9.81)
+    assert np.max(np.abs(gap)) < 1e-3
+
+
+def test_the_fence_stops_the_block(impact):
+    meta, t, _ = impact
+    n = np.asarray(meta["normal"])
+    vn = t["vx"] * n[0] + t["vy"] * n[1] + t["vz"] * n[2]
+    assert vn[0] == pytest.approx(-BLOCK["speed"], rel=1e-9)
+    turn = np.nonzero(vn > 0)[0]
+    assert turn.size                                   # it rebounds
+    depth = (t["x"][0] - t["x"]) * n[0] + (t["y"][0] - t["y"]) * n[1] + (t["z"][0] - t["z"]) * n[2]
+    assert 0.2 < depth[turn[0]] < 1.5                  # braking distance (m): inside the 2 m module
+    assert t["broken"][-1] == 0
+
+
+def test_the_anchor_rows_add_up_and_mirror(impact):
+    meta, t, folder = impact
+    steps, ids, forces = fence.read_support_rows(folder / "anchors.txt")
+    assert list(ids) == sorted(a["id"] for a in meta["anchors"])
+    assert list(steps[:len(t["step"])]) == list(t["step"].astype(int))
+    total = forces.sum(axis=1)[:len(t["step"])]
+    for k, axis in enumerate("xyz"):                    # fix ave/time writes 6 digits
+        assert np.allclose(total[:, k], t[f"anchors_{axis}"], rtol=1e-5, atol=1e-3 * meta["total_mass"])
+    # left and right anchors of each rope: mirror images about x = 0 until the block rebounds
+    x_of = {a["id"]: a["position"][0] for a in meta["anchors"]}
+    pairs = [(i, j) for i in ids for j in ids if x_of[i] < 0 and x_of[j] == -x_of[i]
+             and next(a for a in meta["anchors"] if a["id"] == i)["rope"][:3]
+             == next(a for a in meta["anchors"] if a["id"] == j)["rope"][:3]]
+    assert len(pairs) == 3
+    peak = np.max(np.abs(forces))
+    for i, j in pairs:
+        a, b = forces[:, list(ids).index(i)], forces[:, list(ids).index(j)]
+        assert np.max(np.abs(a[:, 0] + b[:, 0])) < 0.01 * peak
+        assert np.max(np.abs(a[:, 1:] - b[:, 1:])) < 0.01 * peak

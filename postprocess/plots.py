@@ -216,6 +216,42 @@ def figure_zone(series, prefix, x="time", families=None, title=None, ruptures=No
     return save(fig, prefix, outputs)
 
 
+FENCE_ENERGY = (("ke_block", "block kinetic"), ("ke_net", "fence kinetic"),
+                ("e_elastic", "bonds elastic"), ("e_shackle", "shackle springs"),
+                ("w_plastic", "plastic (wires, brakes)"), ("friction", "shackle friction"),
+                ("damping", "local damping"), ("bond_damping", "bond damping"))
+
+
+def figure_fence(case_dir, prefix, title=None, outputs=None):
+    """A fence impact (runner/fence.py): (a) the window-mean reaction of every anchor and post
+    base (supports.csv), (b) where the energy went (energy.csv; gravity terms left out)."""
+    plt = _pyplot()
+    supports = read_csv(os.path.join(case_dir, "supports.csv"), required=("time",))
+    energy = read_csv(os.path.join(case_dir, "energy.csv"),
+                      required=("time",) + tuple(k for k, _ in FENCE_ENERGY))
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5), layout="constrained")
+    names = [k for k in supports if k != "time"]
+    scale, unit = force_scale([supports[k] for k in names])
+    for name in names:
+        axes[0].plot(supports["time"], supports[name] / scale, "--" if "post" in name else "-",
+                     label=name)
+    axes[0].set_xlabel("time [s]")
+    axes[0].set_ylabel(f"|reaction| [{unit}]")
+    axes[0].set_title("(a) anchors (solid) and post bases (dashed)")
+    axes[0].legend(fontsize="x-small", ncol=2)
+    e0 = float(energy["total"][0]) if "total" in energy else 1.0
+    for key, label in FENCE_ENERGY:
+        if np.max(np.abs(energy[key])) > 1e-3 * abs(e0):
+            axes[1].plot(energy["time"], energy[key] / 1e3, label=label)
+    axes[1].set_xlabel("time [s]")
+    axes[1].set_ylabel("energy [kJ]")
+    axes[1].set_title("(b) energy by component")
+    axes[1].legend(fontsize="small")
+    if title:
+        fig.suptitle(title)
+    return save(fig, prefix, outputs)
+
+
 def first_rupture_at(record, x):
     """Abscissa of a case.json first rupture on a figure plotted against x: the punch records
     {displacement, ...}, the impact a time; None when absent or not on that axis."""
@@ -266,6 +302,14 @@ def _study_figures(directory, cases, outputs):
                         for c, _ in series}
             written[name] = figure_zone(series, os.path.join(out, name), x, families, title,
                                         ruptures, outputs)
+    for case in cases.values():
+        if case.kind == "fence" and case.usable:
+            name = f"fence_{case.name}"
+            try:
+                written[name] = figure_fence(case.path, os.path.join(out, name),
+                                             case.meta.get("title") or case.name, outputs)
+            except PostprocessError as exc:
+                print(f"postprocess: warning: {name} skipped: {exc}", file=sys.stderr)
     # Figure 4: the deformed net at the peak, one per punch / calibration / impact case that
     # wrote its ParaView series (figure4.py)
     from . import figure4

@@ -94,9 +94,69 @@ def case_summary(case):
                              "rebound_time": case.meta.get("rebound_time"),
                              "edge_force_peak": case.meta.get("edge_force_peak"),
                              "peak_block_force": case.meta.get("peak_block_force")}
+    if case.kind == "fence":
+        summary["fence"] = fence_summary(case.meta)
     if isinstance(case.meta.get("quasi_static"), dict):
         summary["quasi_static"] = quasi_static_summary(case.meta["quasi_static"])
     return summary
+
+
+def fence_summary(meta):
+    """The facts of a fence impact (runner/fence.py) the report shows."""
+    peaks = meta.get("support_peaks") or {}
+    anchors = {k: v for k, v in peaks.items() if not k.startswith("post_base")}
+    bases = {k: v for k, v in peaks.items() if k.startswith("post_base")}
+
+    def top(group):
+        if not group:
+            return None, None
+        name = max(group, key=lambda k: group[k].get("peak") or 0.0)
+        return name, group[name].get("peak")
+    anchor, anchor_peak = top(anchors)
+    base, base_peak = top(bases)
+    fence = meta.get("fence") or {}
+    energy = meta.get("energy") or {}
+    return {"net": fence.get("net"), "block_energy": (meta.get("block") or {}).get("energy"),
+            "braking_distance": meta.get("braking_distance"),
+            "residual_height_ratio": meta.get("residual_height_ratio"),
+            "final_block_speed": meta.get("final_block_speed"),
+            "anchor": anchor, "anchor_peak": anchor_peak, "post_base": base,
+            "post_base_peak": base_peak, "rope_peaks": meta.get("rope_peaks"),
+            "brake_elongation_peak": meta.get("brake_elongation_peak"),
+            "closure_error": energy.get("closure_error"),
+            "momentum_error": (meta.get("momentum") or {}).get("error"),
+            "broken_bonds": meta.get("broken_bonds"),
+            "energy_final": energy.get("final"), "initial_energy": energy.get("initial_energy")}
+
+
+FENCE_NOTE = (
+    "EAD 340059-00-0106 results of each fence case (runner/fence.py, doc/fence.md): braking "
+    "distance = the block's largest travel along the fence normal after first touch; residual "
+    "height = least vertical distance between top and bottom support rope over the middle module "
+    "at the end of the run, over the nominal height (the guideline's categories: A >= 50 %, "
+    "B 30-50 %, C < 30 %; it measures after the block comes to rest: see the final block speed); "
+    "peaks are window means of the reactions (fence.row_time). Closure and momentum as for the "
+    "impact cases.")
+
+
+def fence_comparison(summaries):
+    """The paper's post-load claim at fence scale: compound vs square net, same block energy;
+    None without such a pair."""
+    fences = {n: s["fence"] for n, s in summaries.items() if s.get("fence") and s["status"] == "ok"}
+    for name, c in fences.items():
+        for other, q in fences.items():
+            if c["net"] == "compound" and q["net"] == "square" and \
+                    c["block_energy"] == q["block_energy"] and c["post_base_peak"] and \
+                    q["post_base_peak"] and c["anchor_peak"] and q["anchor_peak"]:
+                base = c["post_base_peak"] / q["post_base_peak"]
+                anchor = c["anchor_peak"] / q["anchor_peak"]
+                verdict = ("supported" if base < 1 else "not supported") + \
+                    f" at fence scale: the compound net's peak post-base force is {base:.3f} x " \
+                    f"the square net's (anchors {anchor:.3f} x)"
+                return {"compound": name, "square": other, "post_base_ratio": base,
+                        "anchor_ratio": anchor, "verdict": verdict,
+                        "mode": summaries[name]["mode"]}
+    return None
 
 
 QUASI_STATIC_KEYS = ("slow_factor", "curve_difference", "compared_up_to",
@@ -508,6 +568,30 @@ def markdown(directory, summaries, claims, missing, figures, claims_bond=(), dis
                           fmt(r["compound_peak_total"]), fmt(r["ratio_total"]),
                           fmt(r["single_peak_max"]), fmt(r["compound_peak_max"]),
                           fmt(r["ratio_max"])] for r in peak_rows])
+    fences = {n: s["fence"] for n, s in summaries.items() if s.get("fence")}
+    if fences:
+        lines += _section("Fence cases (EAD 340059-00-0106)", FENCE_NOTE)
+        lines += _table(["case", "net", "block energy [kJ]", "braking distance [m]",
+                         "residual height", "final block speed [m/s]", "peak anchor [kN]",
+                         "peak post base [kN]", "brake elongation [m]", "energy closure [-]",
+                         "momentum error [-]", "broken bonds"],
+                        [[n, f["net"], fmt(f["block_energy"] / 1e3 if f["block_energy"] else None),
+                          fmt(f["braking_distance"]), _percent(f["residual_height_ratio"]),
+                          fmt(f["final_block_speed"]),
+                          f"{fmt(f['anchor_peak'] / 1e3 if f['anchor_peak'] else None)} "
+                          f"({f['anchor']})",
+                          f"{fmt(f['post_base_peak'] / 1e3 if f['post_base_peak'] else None)} "
+                          f"({f['post_base']})",
+                          fmt(f["brake_elongation_peak"]), fmt(f["closure_error"]),
+                          fmt(f["momentum_error"]), fmt(f["broken_bonds"])]
+                         for n, f in fences.items()])
+        comparison = fence_comparison(summaries)
+        lines += ["", "The paper's post-load claim at fence scale (compound vs square net, same "
+                      "fence and block): " + (comparison["verdict"] +
+                                              (" (quick cases)" if comparison["mode"] == "quick"
+                                               else "") if comparison else
+                                              "not evaluated (needs a compound and a square "
+                                              "fence case with the same block energy).")]
     beams = {n: s for n, s in summaries.items() if s.get("beam")}
     for name, s in beams.items():
         lines += ["", f"## Beam check ({name})", ""]
@@ -562,6 +646,7 @@ def build(directory, expected=None, figures=True):
                    "claims": claims, "claims_bond_damping": claims_bond,
                    "dissipation_models": dissipation,
                    "impact_peaks": impact_peak_rows(summaries),
+                   "fence_comparison": fence_comparison(summaries),
                    "figures": {k: [os.path.relpath(p, directory) for p in v]
                                for k, v in written.items()}}
         with open(outputs.file(os.path.join(directory, "summary.json")), "w",

@@ -19,7 +19,7 @@ TABLES = {
     "beam": ("beam.csv", ("elements", "load", "tip_deflection", "analytic_deflection", "nrmse")),
 }
 LINE_FILES = ("deflection.csv", "beam_line.csv")
-KINDS = ("beam", "calibration", "punch", "impact")
+KINDS = ("beam", "calibration", "punch", "impact", "fence")
 OK_STATUSES = ("ok", "done", "completed", "success")
 
 

@@ -2,7 +2,7 @@
 
     /usr/bin/python3 -m runner run [STUDY|CASE|FILE.toml] [--quick] [--np N] [--out DIR]
                                    [--set KEY=VALUE ...]
-    /usr/bin/python3 -m runner new punch|impact      a commented case file on stdout
+    /usr/bin/python3 -m runner new punch|impact|fence   a commented case file on stdout
     /usr/bin/python3 -m runner keys                  the key tables of doc/case_files.md
 
 User errors are one line and exit code 2.
@@ -47,7 +47,7 @@ def build_parser():
                      help="override a case-file key (TOML value; repeatable), e.g. "
                           "--set punch.speed=0.02 --set 'supports.left=\"pinned\"'")
     new = sub.add_parser("new", help="print a commented case-file template")
-    new.add_argument("kind", choices=("punch", "impact"))
+    new.add_argument("kind", choices=("punch", "impact", "fence"))
     sub.add_parser("keys", help="print the key tables of doc/case_files.md")
     return parser
 

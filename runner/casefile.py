@@ -11,7 +11,7 @@ import os
 import tomllib
 from dataclasses import dataclass, field
 
-from .schema import BY_PATH, KEYS, LIST_SECTIONS, SECTIONS
+from .schema import BY_PATH, KEYS, LIST_SECTIONS, NOT_FOR_FENCE, SECTIONS, applies
 
 
 class CaseFileError(Exception):
@@ -145,13 +145,15 @@ class Checker:
     def case(self):
         kind = self.raw.get("kind")
         if kind is None:
-            self.fail("kind", "missing (punch, impact or cantilever)")
+            self.fail("kind", "missing (punch, impact, cantilever or fence)")
         kind = self.value(BY_PATH["kind"], kind, "kind")
         flat = {}
         self.flatten(self.raw, "", flat)
+        if kind == "fence":
+            self.refuse_panel_keys(flat)
         values = {}
         for key in KEYS:
-            if key.per_item or (key.kind and key.kind != kind):
+            if key.per_item or not applies(key, kind):
                 continue
             if key.path in flat:
                 values[key.path] = self.value(key, flat.pop(key.path), key.path)
@@ -173,6 +175,15 @@ class Checker:
         case = Case(self.name, self.path, kind, values, impacts, zones, self.quick)
         self.cross_checks(case)
         return case
+
+    def refuse_panel_keys(self, flat):
+        output = self.raw.get("output")
+        zones = ["output.zones"] if isinstance(output, dict) and "zones" in output else []
+        for path in list(flat) + zones:
+            if any(path == k or path.startswith(k) for k in NOT_FOR_FENCE):
+                self.fail(path, "not used by a fence case (module size: fence.spacing and "
+                                "fence.height; supports: its anchors and posts; it settles for "
+                                "fence.settle_time)")
 
     def flatten(self, table, prefix, out):
         for name, value in table.items():
@@ -312,7 +323,7 @@ class Checker:
     # --- keys that depend on each other ---------------------------------------------------------
     def cross_checks(self, case):
         v = case.values
-        if case.kind == "cantilever":
+        if case.kind in ("cantilever", "fence"):
             return
         if v["preload.mode"] in ("sag", "settle") and not v["gravity"] > 0:
             self.fail("preload.mode", f"'{v['preload.mode']}' needs gravity > 0 "

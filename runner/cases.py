@@ -10,9 +10,9 @@ left (its run/net.restart).
 import json
 import os
 
-from postprocess.model import PAPER_BENDING
+from postprocess.model import MATERIALS, PAPER_BENDING, rope_strength_keyword
 
-from . import cantilever, impact, punch, supports
+from . import cantilever, fence, impact, punch, supports
 from .schema import BY_PATH, KEYS
 
 CALIBRATION_FILE = "calibration.json"   # python3 -m postprocess calibrate ... --out DIR/calibration
@@ -36,14 +36,15 @@ def bending_of(case, study_dir):
 
 
 def materials_of(case):
-    """materials.in overrides: the case's material and contact keys that differ from it."""
+    """materials.in overrides: the case's material and contact keys that differ from it (a key
+    whose default depends on the kind, from materials.in's value)."""
     out = {}
     for key in KEYS:
         if key.section not in ("materials", "contact") or key.name in ("bending", "rope_strength",
                                                                         "zeta"):
             continue
         value = case[key.path]
-        if value != key.default:
+        if value != (MATERIALS[key.name] if isinstance(key.default, dict) else key.default):
             out[key.name] = value
     return out
 
@@ -64,8 +65,9 @@ def generator_options(case):
     defaults (a node radius of 0 is the generator's own), so that a case with the defaults
     generates the generator's default panel."""
     options = []
+    net = "compound" if case.kind == "fence" else case["panel.net"]   # fence: --hex-.., --square-..
     for path, by_net in _GENERATOR_OPTIONS:
-        value, option = case[path], by_net.get(case["panel.net"])
+        value, option = case[path], by_net.get(net)
         if option and value != BY_PATH[path].default and value != 0.0:
             options += [option, value]
     return options
@@ -89,7 +91,8 @@ def write_supports(case, setup_dir):
 
 def output_options(case):
     """Row, dump and frame intervals of the case's [output] keys."""
-    rows = {"punch": ("row_travel", "output.row_travel"), "impact": ("row_time", "output.row_time")}
+    rows = {"punch": ("row_travel", "output.row_travel"), "impact": ("row_time", "output.row_time"),
+            "fence": ("row_time", "fence.row_time")}
     name, path = rows[case.kind]
     return {name: case[path], "dump_rows": case["output.dump_rows"], "frames": case["output.frames"]}
 
@@ -192,7 +195,31 @@ class CantileverCase(CaseRunner):
         return cantilever.run_beam_case(case_dir, self.case["cantilever.elements"], np_=np_)
 
 
-RUNNERS = {"punch": PunchCase, "impact": ImpactCase, "cantilever": CantileverCase}
+class FenceCase(CaseRunner):
+    """A block impact on a whole fence (runner/fence.py, inputs/fence.in)."""
+
+    def width(self):
+        return 2
+
+    def run(self, index, case_dir, study_dir, np_):
+        c = self.case
+        bending, source = bending_of(c, study_dir)
+        materials = dict(materials_of(c), bending=bending)
+        if c["materials.rope_strength"]:
+            materials["rope_strength"] = rope_strength_keyword(True, materials)
+        facts = fence.run_case(
+            case_dir, np_=np_, modules=c["fence.modules"], spacing=c["fence.spacing"],
+            height=c["fence.height"], net=c["panel.net"], post_tilt=c["fence.post_tilt"],
+            head_guides=c["fence.head_guides"], mass=c["fence.block_mass"],
+            side=c["fence.block_side"], speed=c["fence.speed"], duration=c["fence.duration"],
+            settle_time=c["fence.settle_time"], dt=c["fence.dt"], alpha=c["damping.local"],
+            bond_zeta=c["damping.bond"], gravity=c["gravity"], materials=materials,
+            gen_options=generator_options(c), **output_options(c))
+        return dict(facts, bending_source=source)
+
+
+RUNNERS = {"punch": PunchCase, "impact": ImpactCase, "cantilever": CantileverCase,
+           "fence": FenceCase}
 
 
 def runner_of(case):

@@ -8,9 +8,9 @@ from dataclasses import dataclass
 
 from postprocess.model import MATERIALS, PAPER_BENDING
 
-from . import impact, punch, supports
+from . import fence, impact, punch, supports
 
-KINDS = ("punch", "impact", "cantilever")
+KINDS = ("punch", "impact", "cantilever", "fence")
 NETS = ("hex", "square", "compound")
 PAPER = "the paper (README: the study WireNet reproduces)"
 MATERIALS_SOURCE = "inputs/include/materials.in (doc/bond_wirenet.md)"
@@ -58,13 +58,15 @@ def _material(name, unit, doc, low=0.0, low_open=True, type_="number"):
 KEYS = [
     # --- the case ----------------------------------------------------------------------------
     Key("kind", "choice", None, "", "what the case does: a quasi-static punch, a block impact, "
-        "or the cantilever check of the beam law (required)", "", choices=KINDS),
+        "the cantilever check of the beam law, or a fence impact (EAD 340059; required)", "", choices=KINDS),
     Key("title", "text", "", "", "one line shown in the report", ""),
     Key("gravity", "number", 9.81, "m/s2", "gravitational acceleration along -z on net and block "
         "(0: none)", "standard gravity", low=0.0),
     # --- panel -------------------------------------------------------------------------------
-    Key("panel.net", "choice", "hex", "", "hex: double-twist hexagonal mesh; square: strand-rope "
-        "square mesh; compound: hex over square (wirenet-gen)", PAPER, choices=NETS),
+    Key("panel.net", "choice", {"punch": "hex", "impact": "hex", "cantilever": "hex",
+                                "fence": "compound"}, "", "hex: double-twist hexagonal mesh; "
+        "square: strand-rope square mesh; compound: hex over square (wirenet-gen; a fence: the "
+        "net of every module)", PAPER, choices=NETS),
     Key("panel.width", "number", 3.0, "m", "panel size along x (edges at +-W/2)", PAPER,
         low=0.0, low_open=True, quick=1.2),
     Key("panel.height", "number", 3.0, "m", "panel size along y (edges at +-H/2)", PAPER,
@@ -134,22 +136,29 @@ KEYS = [
               "the beam's area; approximate)"),
     _material("rope_tau_c", "Pa", "rope shear strength"),
     # --- contact -----------------------------------------------------------------------------
-    Key("contact.kn", "number", MATERIALS["kn"], "N/m", "normal contact stiffness, net-body "
-        "and node-node", MATERIALS_SOURCE, low=0.0, low_open=True),
-    Key("contact.ks", "number", MATERIALS["ks"], "N/m", "tangential contact stiffness",
-        MATERIALS_SOURCE, low=0.0, low_open=True),
+    Key("contact.kn", "number", {"punch": MATERIALS["kn"], "impact": MATERIALS["kn"],
+                                 "cantilever": MATERIALS["kn"], "fence": fence.CONTACT["kn"]},
+        "N/m", "normal contact stiffness, net-body and node-node (fence: a penalty 100x softer "
+        "than the paper's, overlap under a wire's breaking force ~0.3 mm; doc/fence.md)",
+        MATERIALS_SOURCE + "; fence: doc/fence.md", low=0.0, low_open=True),
+    Key("contact.ks", "number", {"punch": MATERIALS["ks"], "impact": MATERIALS["ks"],
+                                 "cantilever": MATERIALS["ks"], "fence": fence.CONTACT["ks"]},
+        "N/m", "tangential contact stiffness", MATERIALS_SOURCE + "; fence: doc/fence.md",
+        low=0.0, low_open=True),
     Key("contact.mu", "number", MATERIALS["mu"], "", "friction coefficient", MATERIALS_SOURCE,
         low=0.0),
-    Key("contact.zeta", "number", {"punch": 0.3, "impact": 0.0}, "", "viscous normal contact "
+    Key("contact.zeta", "number", {"punch": 0.3, "impact": 0.0, "fence": 0.0}, "", "viscous normal contact "
         "damping, fraction of critical on the lightest node (punch: kills the ringing of a node "
         "riding on the platter; impact: none, the paper's)", "doc/punch.md", low=0.0),
     # --- damping -----------------------------------------------------------------------------
-    Key("damping.local", "number", {"punch": 0.7, "impact": 0.5}, "", "Cundall local damping "
-        "factor on the net nodes", "punch: PFC's static default; impact: " + PAPER, low=0.0,
+    Key("damping.local", "number", {"punch": 0.7, "impact": 0.5, "fence": fence.ALPHA}, "",
+        "Cundall local damping factor on the net nodes (fence: on every atom during the impact)",
+        "punch: PFC's static default; impact: " + PAPER + "; fence: doc/fence.md", low=0.0,
         high=0.999),
-    Key("damping.bond", "number", 0.0, "", "viscous bond damping, fraction of each bond's "
-        "critical damping (momentum-conserving; doc/impact.md uses 0.05 with local 0)",
-        "doc/impact.md", low=0.0, high=9.99),
+    Key("damping.bond", "number", {"punch": 0.0, "impact": 0.0, "cantilever": 0.0,
+                                   "fence": fence.BOND_ZETA}, "", "viscous bond damping, "
+        "fraction of each bond's critical damping (momentum-conserving; doc/impact.md uses 0.05 "
+        "with local 0, the fence's default)", "doc/impact.md, doc/fence.md", low=0.0, high=9.99),
     # --- punch -------------------------------------------------------------------------------
     Key("punch.platter", "choice", "spheroid", "", "platter shape: spheroid (the paper's "
         "semi-spheroid), cone (flat tip), sphere", PAPER, choices=("spheroid", "cone", "sphere"),
@@ -203,6 +212,36 @@ KEYS = [
     Key("impact.body", "choice", "analytic", "", "analytic: exact truncated cube (fix "
         "wirenet/body); mesh: the STL moved by fix wirenet/rigidmesh",
         "doc/fix_wirenet_body.md", choices=("analytic", "mesh"), kind="impact", per_item=True),
+    # --- fence -------------------------------------------------------------------------------
+    Key("fence.modules", "integer", 3, "", "functional modules (one net panel between two "
+        "posts each)", "EAD 340059-00-0106 (three modules)", low=1, kind="fence"),
+    Key("fence.spacing", "number", 10.0, "m", "post spacing", "EAD 340059-00-0106 (typical)",
+        low=0.0, low_open=True, kind="fence", quick=4.0),
+    Key("fence.height", "number", 5.0, "m", "post height (nominal height of the fence)",
+        "issue #18", low=0.0, low_open=True, kind="fence", quick=2.0),
+    Key("fence.post_tilt", "number", 10.0, "deg", "posts, net and support ropes lean downslope "
+        "about the ground line (a vertical hinged post is an inverted pendulum)",
+        "doc/wirenet-gen.md", low=0.0, high=40.0, kind="fence"),
+    Key("fence.head_guides", "choice", "clamp", "", "top rope at the post heads: clamp (fixed "
+        "to the head) or slide (through a guide; the posts sway)", "doc/wirenet-gen.md",
+        choices=("clamp", "slide"), kind="fence"),
+    Key("fence.block_mass", "number", fence.BLOCK["mass"], "kg", "block mass (1600 kg at 25 "
+        "m/s: 500 kJ)", "EAD 340059-00-0106", low=0.0, low_open=True, kind="fence", quick=100.0),
+    Key("fence.block_side", "number", fence.BLOCK["side"], "m", "side of the truncated cube "
+        "(corner cut side/3; 0.865 m: 1600 kg at 2600 kg/m3)", "EAD 340059-00-0106", low=0.0,
+        low_open=True, kind="fence", quick=0.35),
+    Key("fence.speed", "number", fence.BLOCK["speed"], "m/s", "block speed against the fence "
+        "normal, at the middle of the middle module", "EAD 340059-00-0106 (>= 25 m/s)",
+        low=0.0, low_open=True, kind="fence", quick=5.0),
+    Key("fence.duration", "number", 0.8, "s", "simulated time after release", "doc/fence.md",
+        low=0.0, low_open=True, kind="fence", quick=0.1),
+    Key("fence.settle_time", "number", 1.0, "s", "settling under gravity (damped) before the "
+        "block is released", "doc/fence.md", low=0.0, low_open=True, kind="fence", quick=0.3),
+    Key("fence.dt", "number", None, "s", "time step", "doc/fence.md", low=0.0, low_open=True,
+        kind="fence", derived="half the smaller of the bond style's stable estimate and the "
+        "block contact's limit"),
+    Key("fence.row_time", "number", 2e-3, "s", "time between rows of fence.csv and the CSVs "
+        "made from it", "WireNet (runner/fence.py)", low=0.0, low_open=True, kind="fence"),
     # --- cantilever --------------------------------------------------------------------------
     Key("cantilever.elements", "list-int", [5, 11, 21], "", "beam discretisations compared with "
         "the closed form", PAPER + ", Fig. 1", kind="cantilever"),
@@ -213,10 +252,12 @@ KEYS = [
     Key("output.row_time", "number", impact.OUTPUT_INTERVAL, "s", "time between rows of "
         "impact.csv, block.csv, energy.csv and momentum.csv", "WireNet (runner/impact.py)",
         low=0.0, low_open=True, kind="impact"),
-    Key("output.dump_rows", "integer", {"punch": punch.DUMP_ROWS, "impact": impact.DUMP_ROWS},
+    Key("output.dump_rows", "integer", {"punch": punch.DUMP_ROWS, "impact": impact.DUMP_ROWS,
+                                        "fence": impact.DUMP_ROWS},
         "", "rows between dumps of the bond tensions (zone forces, Figure 4's frame)",
         "WireNet (runner/punch.py, impact.py)", low=1),
-    Key("output.frames", "integer", {"punch": punch.FRAMES, "impact": impact.FRAMES}, "",
+    Key("output.frames", "integer", {"punch": punch.FRAMES, "impact": impact.FRAMES,
+                                     "fence": impact.FRAMES}, "",
         "ParaView frames over the load (CASE.pvd)", "WireNet (inputs/include/frames.in)", low=1),
     Key("output.zones.name", "text", "centre", "", "zone name (the first zone writes "
         "zone_forces.csv, the others zone_forces_NAME.csv)", "", per_item=True),
@@ -227,6 +268,18 @@ KEYS = [
 ]
 
 BY_PATH = {k.path: k for k in KEYS}
+# keys of a panel case that a fence has no use for: its modules' size is fence.spacing x
+# fence.height, its supports are its anchors and posts, it always settles first (fence.settle_time),
+# its outputs are per component
+NOT_FOR_FENCE = ("panel.width", "panel.height", "supports.", "preload.", "output.zones")
+
+
+def applies(key, kind):
+    """Whether a case of this kind takes the key."""
+    if key.kind not in (None, kind):
+        return False
+    return kind != "fence" or not any(key.path == k or key.path.startswith(k)
+                                      for k in NOT_FOR_FENCE)
 SECTIONS = sorted({".".join(k.path.split(".")[:n]) for k in KEYS
                    for n in range(1, k.path.count(".") + 1)})
 # sections that are lists of tables ([[impact]], [[output.zones]]) or may be

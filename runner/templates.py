@@ -3,7 +3,7 @@ doc/case_files.md (tests/python/test_case_files.py keeps the doc equal to them).
 
 import textwrap
 
-from .schema import KEYS, PAPER
+from .schema import KEYS, PAPER, applies
 
 SECTION_TITLES = {
     "": "the case", "panel": "[panel] the net (wirenet-gen)", "supports": "[supports] edges",
@@ -11,6 +11,7 @@ SECTION_TITLES = {
     "contact": "[contact] net-body and node-node contacts", "damping": "[damping]",
     "punch": "[punch] the platter", "impact": "[impact] the block ([[impact]] tables: "
     "successive impacts on the same net)", "cantilever": "[cantilever]",
+    "fence": "[fence] the fence and its block (kind fence; doc/fence.md)",
     "output": "[output] intervals of the outputs",
     "output.zones": "[[output.zones]] circles whose bond tensions are summed per family"}
 
@@ -28,7 +29,7 @@ def toml_value(value):
 
 
 def _applies(key, kind):
-    return key.kind in (None, kind) and key.path != "kind"
+    return applies(key, kind) and key.path != "kind"
 
 
 def _sections(kind):

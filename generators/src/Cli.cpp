@@ -492,7 +492,8 @@ int runFence(const std::vector<std::string>& args) {
     o.addInt("ties", 0, 0, "compound: tie every k-th interior crossing to the nearest hex node; 0 = none");
     o.addNumber("shackle-gap", 0.05, "m", "gap between a net edge and its support rope or post (panel = spacing - 2 gap by height - 2 gap)");
     o.addString("side-shackles", "post", "module sides: post (shackled to the neighbouring post) or none (free)");
-    o.addString("head-guides", "slide", "top rope at the post heads: slide (through a guide, a shackle) or clamp (fixed to the head)");
+    // defaults: the fence inputs/fence.in brings to rest (a sliding head lets the posts sway)
+    o.addString("head-guides", "clamp", "top rope at the post heads: clamp (fixed to the head) or slide (through a guide, a shackle; the posts sway)");
     o.addNumber("rope-segment", 0.5, "m", "target bond length of the support and upslope ropes");
     o.addNumber("support-rope-diameter", 0.022, "m", "top and bottom support rope diameter");
     o.addNumber("upslope-rope-diameter", 0.022, "m", "upslope rope diameter");
@@ -504,7 +505,7 @@ int runFence(const std::vector<std::string>& args) {
     o.addNumber("upslope-height", 0.0, "m", "height of the upslope anchors above the post bases", Bound::Any);
     o.addInt("upslope-brakes", 1, 0, "brake bonds in each upslope rope next to its anchor");
     o.addInt("post-elements", 5, 1, "beam elements per post");
-    o.addNumber("post-tilt", 0.0, "deg", "posts, net and support ropes lean downslope (towards -y) by this angle about the ground line; "
+    o.addNumber("post-tilt", 10.0, "deg", "posts, net and support ropes lean downslope (towards -y) by this angle about the ground line; "
                 "a vertical hinged post is an inverted pendulum that only its tension-only upslope rope holds", Bound::Any);
     o.addNumber("post-area", kHeaArea, "m2", "post section area A (HEA 200)");
     o.addNumber("post-iy", kHeaIy, "m4", "post second moment Iy about the strong axis, which lies along the fence (HEA 200)");

@@ -49,7 +49,17 @@ def error_of(text):
     ('kind = "impact"\n[impact]\nblock = "stl"\n', "impact.stl: block 'stl' needs the STL file"),
     ('kind = "impact"\n[preload]\nmode = "sag"\n', "preload.mode: 'sag' is a punch pre-load"),
     ('kind = "punch"\ngravity = 0.0\n', "preload.mode: 'sag' needs gravity > 0"),
-    ('kind = "fence"\n', "kind: must be one of punch, impact, cantilever"),
+    ('kind = "wall"\n', "kind: must be one of punch, impact, cantilever, fence"),
+    ('kind = "fence"\n[panel]\nwidth = 3.0\n', "panel.width: not used by a fence case"),
+    ('kind = "fence"\n[supports]\nleft = "pinned"\n', "supports.left: not used by a fence case"),
+    ('kind = "fence"\n[preload]\nmode = "none"\n', "preload.mode: not used by a fence case"),
+    ('kind = "fence"\n[[output.zones]]\nname = "a"\n', "output.zones: not used by a fence case"),
+    ('kind = "fence"\n[fence]\nmodules = 0\n', "fence.modules: must be >= 1, got 0"),
+    ('kind = "fence"\n[fence]\nhead_guides = "glued"\n', "fence.head_guides: must be one of clamp, slide"),
+    ('kind = "fence"\n[fence]\nspeed = nan\n', "fence.speed: must be a finite number"),
+    ('kind = "fence"\n[fence]\npost_tilt = 75.0\n', "fence.post_tilt: must be <= 40"),
+    ('kind = "fence"\n[impact]\nmass = 10.0\n', "impact.mass: only for kind 'impact'"),
+    ('kind = "punch"\n[fence]\nspeed = 10.0\n', "fence.speed: only for kind 'fence'"),
     ('title = "x"\n', "kind: missing"),
     ('kind = "punch"\n[materials]\ncurve = [[0.01, 1e8], [0.005, 2e8]]\n', "materials.curve: strains must be > 0 and increasing"),
     ('kind = "punch"\n[materials]\nbending = "paper"\n', "materials.bending: must be a number >= 0 or 'calibrated'"),
@@ -122,13 +132,33 @@ def test_set_overrides(tmp_path):
         casefile.read(path, ["panel.width"])
 
 
-@pytest.mark.parametrize("kind", ["punch", "impact"])
+@pytest.mark.parametrize("kind", ["punch", "impact", "fence"])
 def test_templates_parse_to_the_defaults(kind):
     template = templates.template(kind)
     assert check(template).values == check(f'kind = "{kind}"\n').values
     for key in schema.KEYS:
-        if key.kind in (None, kind) and key.path != "kind":
+        if schema.applies(key, kind) and key.path != "kind" and key.default_for(kind) is not None:
             assert f"{key.name} = " in template, key.path
+        elif not schema.applies(key, kind):
+            assert f"\n{key.name} = " not in template or key.name in (
+                k.name for k in schema.KEYS if schema.applies(k, kind)), key.path
+
+
+def test_fence_defaults_and_contact():
+    """A fence case: the generator's default fence (compound net, 3 x 10 m x 5 m), the 500 kJ
+    block of EAD 340059 (1600 kg at 25 m/s), the fence's soft contact penalty passed to the
+    deck (materials.in's 1e9 N/m is the paper's panel contact); --quick shrinks all of it."""
+    from runner import cases
+    case = check('kind = "fence"\n')
+    assert case["panel.net"] == "compound" and case["fence.modules"] == 3
+    assert 0.5 * case["fence.block_mass"] * case["fence.speed"] ** 2 == pytest.approx(500e3)
+    assert cases.materials_of(case)["kn"] == 1e7 and cases.materials_of(case)["ks"] == 1e6
+    assert "kn" not in cases.materials_of(check('kind = "impact"\n'))
+    quick = casefile.parse('kind = "fence"\n', quick=True)
+    assert quick["fence.spacing"] == 4.0 and quick["fence.speed"] == 5.0
+    # generator options: a fence takes the compound generator's prefixed names for any net
+    case = check('kind = "fence"\n[panel]\nnet = "hex"\nhex_node_mass = 0.005\n')
+    assert cases.generator_options(case) == ["--hex-node-mass", 0.005]
 
 
 def test_shipped_case_files_check():
@@ -272,6 +302,8 @@ def test_new_prints_a_template():
     p = subprocess.run([str(DRIVER), "new", "punch"], capture_output=True, text=True, timeout=60)
     assert p.returncode == 0 and p.stdout == templates.template("punch")
     p = subprocess.run([str(DRIVER), "new", "fence"], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0 and p.stdout == templates.template("fence")
+    p = subprocess.run([str(DRIVER), "new", "wall"], capture_output=True, text=True, timeout=60)
     assert p.returncode == 2 and "invalid choice" in p.stderr
 
 

@@ -140,6 +140,29 @@ def test_the_fence_stops_the_block(impact):
     assert t["broken"][-1] == 0
 
 
+@pytest.fixture(scope="module")
+def impact_two_ranks(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("fence_np2")
+    meta, _ = settle(folder, np=2)
+    return fence.read_table(folder)
+
+
+def test_two_ranks_agree(impact, impact_two_ranks):
+    """The same deck on 2 ranks: the same settled fence and the same block path (the sums of
+    forces differ in order only: round-off grows through the contact, so 1e-3 of the travel),
+    the same budget closure, the same peak anchor loads within 1 %."""
+    meta, one, _ = impact
+    two = impact_two_ranks
+    assert list(one["step"]) == list(two["step"])
+    travel = np.max(np.abs(one["y"] - one["y"][0]))
+    for axis in ("x", "y", "z"):
+        assert np.max(np.abs(one[axis] - two[axis])) < 1e-3 * travel
+    for column in ("anchors_x", "anchors_y", "anchors_z", "bases_y", "bases_z"):
+        peak = np.max(np.abs(one[column]))
+        assert np.max(np.abs(one[column] - two[column])) < 0.01 * peak, column
+    assert np.max(np.abs(fence.energy_budget(two)[3])) < 1e-3
+
+
 def test_the_anchor_rows_add_up_and_mirror(impact):
     meta, t, folder = impact
     steps, ids, forces = fence.read_support_rows(folder / "anchors.txt")

@@ -84,13 +84,18 @@ def read_shackles(path):
     return ropes, shackles
 
 
+# the closed forms below are for upright posts with the top rope sliding through the heads; the
+# generator's defaults (10 degree lean, clamped heads) are checked on their own
+UPRIGHT = ["--post-tilt", "0", "--head-guides", "slide"]
+
+
 class Fence:
-    """A generated fence: data, JSON, shackles, and the options it was made with."""
+    """A generated fence: data, JSON, shackles, and the options it was made with (UPRIGHT)."""
 
     def __init__(self, tmp_path, args=(), name="f"):
         self.dir = Path(tmp_path)
         self.args = list(args)
-        self.stdout = gen(self.dir, "fence", *self.args, "--out", name)
+        self.stdout = gen(self.dir, "fence", *UPRIGHT, *self.args, "--out", name)
         self.head, self.box, self.atoms, self.bonds = read_data(self.dir / f"{name}.data")
         self.meta = json.loads((self.dir / f"{name}.json").read_text())
         self.ropes, self.shackles = read_shackles(self.dir / f"{name}.shackles")
@@ -455,7 +460,7 @@ BAD = [
     (["--rope-segment", "0.02"], "--rope-segment 0.02 gives the support rope's bond"),
     (["--brakes", "-1"], "--brakes must be >= 0 (got -1)"),
     (["--brakes", "6"], "--brakes must be <= 5, the bonds between a lateral anchor and the end post (got 6)"),
-    (["--upslope-brakes", "23"], "--upslope-brakes must be <= 22, the bonds of an upslope rope (got 23)"),
+    (["--upslope-brakes", "25"], "--upslope-brakes must be <= 24, the bonds of an upslope rope (got 25)"),
     (["--upslope-height", "5"], "--upslope-height must be < --height (got 5 >= 5)"),
     (["--bottom-anchor-distance", "0.3"], "--bottom-anchor-distance must be >= the support rope's bond"),
     (["--rope-fill", "1.5"], "--rope-fill must be <= 1 (got 1.5)"),
@@ -496,8 +501,8 @@ def test_post_tilt_leans_posts_net_and_support_ropes_about_the_ground_line(tmp_p
     """--post-tilt t turns every part but the upslope ropes about the x axis at the ground:
     (y, z) -> (y cos t - z sin t, y sin t + z cos t); the anchors on the ground stay, each
     upslope rope runs straight from its leaned head to its anchor."""
-    gen(tmp_path, "fence", *SMALL, "--out", "v")
-    gen(tmp_path, "fence", *SMALL, "--post-tilt", "12", "--out", "t")
+    gen(tmp_path, "fence", *SMALL, *UPRIGHT, "--out", "v")
+    gen(tmp_path, "fence", *SMALL, "--post-tilt", "12", "--head-guides", "slide", "--out", "t")
     _, _, upright, _ = read_data(tmp_path / "v.data")
     _, _, leaned, _ = read_data(tmp_path / "t.data")
     mv, mt = json.loads((tmp_path / "v.json").read_text()), json.loads((tmp_path / "t.json").read_text())
@@ -527,8 +532,8 @@ def test_clamped_heads_join_the_top_rope(tmp_path):
     """--head-guides clamp: each post head is an atom of the top rope (the rope bond it sat on
     split in two through it) instead of a shackle sliding on it: one bond more and one shackle
     less per post, the same atoms."""
-    gen(tmp_path, "fence", *SMALL, "--out", "s")
-    gen(tmp_path, "fence", *SMALL, "--head-guides", "clamp", "--out", "c")
+    gen(tmp_path, "fence", *SMALL, *UPRIGHT, "--out", "s")
+    gen(tmp_path, "fence", *SMALL, "--post-tilt", "0", "--head-guides", "clamp", "--out", "c")
     hs = read_data(tmp_path / "s.data")[0]
     hc, _, _, bonds_c = read_data(tmp_path / "c.data")
     meta = json.loads((tmp_path / "c.json").read_text())
@@ -550,6 +555,16 @@ def test_clamped_heads_join_the_top_rope(tmp_path):
     pairs = {frozenset((int(b[2]), int(b[3]))): int(b[1]) for b in bonds_c}
     for a, b in zip(top, top[1:]):                         # a chain of rope or brake bonds
         assert pairs[frozenset((a, b))] in (5, 6), (a, b)
+
+
+def test_defaults_are_the_fence_that_comes_to_rest(tmp_path):
+    """Without options the fence leans 10 degrees and clamps the top rope at the post heads
+    (inputs/fence.in brings that fence to rest: tests/python/test_fence.py)."""
+    gen(tmp_path, "fence", *SMALL, "--out", "d")
+    gen(tmp_path, "fence", *SMALL, "--post-tilt", "10", "--head-guides", "clamp", "--out", "e")
+    assert (tmp_path / "d.data").read_text().split("\n", 1)[1] == \
+        (tmp_path / "e.data").read_text().split("\n", 1)[1]
+    assert json.loads((tmp_path / "d.json").read_text())["fence"]["post_tilt_deg"] == 10
 
 
 def test_bad_out_leaves_no_file(tmp_path):

@@ -1,0 +1,318 @@
+"""Fence impact cases in the form of EAD 340059-00-0106 (issue #18; doc/fence.md): a
+`wirenet-gen fence` (net modules between hinged posts, support and upslope ropes with brakes,
+the net on shackles) settles under its weight, then the guideline's block (the truncated cube,
+density about 2600 kg/m3) hits the middle of the middle module against the fence normal.
+Deck: inputs/fence.in (include/fence_impact.in). Results, each from its own mechanism:
+
+- braking distance (the block's largest travel along the normal after first touch) and the
+  residual height of the middle module at the end (the least vertical distance between the top
+  and bottom support ropes there), against the nominal height;
+- the window-mean reaction of every anchor and post base as a time series and its peak;
+- the peak tension of every rope family, the elongation of every brake;
+- the energy per component (block, fence kinetic and potential, bonds, wire and brake plastic
+  work, shackle springs and friction, damping, contacts) and the budget's closure;
+- the momentum balance (supports, gravity, damping impulses);
+- ruptures by family.
+"""
+
+import math
+import os
+import re
+import time
+
+import numpy as np
+
+from postprocess import bodyframes, fence, liggghts, model, vtu
+from postprocess.csvio import write_csv
+from postprocess.datafile import read_data
+from postprocess.errors import PostprocessError
+from postprocess.meta import read_json
+
+from . import punch
+
+# EAD 340059-00-0106 (formerly ETAG 027): a block of concrete (density >= 2600 kg/m3 here) at
+# >= 25 m/s; 1600 kg at 25 m/s is 500 kJ, the maximum energy level of a "500 kJ" kit. Side
+# 0.865 m: the truncated cube (corner cut side/3) of 1600 kg at 2600 kg/m3.
+BLOCK = dict(mass=1600.0, side=0.865, speed=25.0)
+ALPHA_RELAX = 0.7        # local damping while the fence settles under its weight
+# Dissipation during the impact (doc/fence.md): no local damping (it would take most of the
+# block's energy: 61 % of 500 kJ at 0.1), 5 % of critical viscous bond damping against the
+# ringing of the wires instead; the fence dissipates in its brakes, wires and shackles
+ALPHA = 0.0
+BOND_ZETA = 0.05
+# The block's contact: a penalty 100x softer than the paper's 1e9 N/m, so that it does not set
+# the step on 4 g hex nodes; a wire's breaking force (~3 kN) overlaps it by ~0.3 mm, against
+# node radii of 5 mm (doc/fence.md)
+CONTACT = dict(kn=1e7, ks=1e6)
+DT_SAFETY = 0.5          # of the smaller of the bond style's estimate and the contact limit
+GAP = 0.005              # block to the foremost net node at release [m]
+G = 9.81
+FAMILY_TYPES = {"support_rope": (5,), "brake": (6,), "upslope": (7,), "upslope_brake": (8,),
+                "post": (9,)}
+ESTIMATE = re.compile(r"stable time step estimate ([0-9.eE+-]+) s")
+
+
+def generator_options(modules, spacing, height, net, post_tilt, head_guides, extra=()):
+    return ["--modules", modules, "--spacing", spacing, "--height", height, "--net", net,
+            "--post-tilt", post_tilt, "--head-guides", head_guides, *extra]
+
+
+def block_turn(tilt_deg):
+    """Unit quaternion turning the block's z axis onto the fence normal (0, cos t, sin t): a
+    face towards the fence."""
+    turn = math.radians(tilt_deg) - math.pi / 2
+    return (math.cos(turn / 2), math.sin(turn / 2), 0.0, 0.0)
+
+
+class Setup:
+    """Everything a fence run needs; .variables() gives the deck's -var values."""
+
+    def __init__(self, workdir, modules=3, spacing=10.0, height=5.0, net="compound",
+                 post_tilt=10.0, head_guides="clamp", mass=BLOCK["mass"], side=BLOCK["side"],
+                 speed=BLOCK["speed"], duration=0.8, settle_time=1.0, dt=None, alpha=ALPHA,
+                 bond_zeta=BOND_ZETA, gravity=G, materials=None, row_time=2e-3, dump_rows=10,
+                 frames=40, gen_options=(), np_=1):
+        if not (mass > 0 and side > 0 and speed > 0):
+            raise PostprocessError(f"fence: block mass, side and speed must be > 0 (got {mass}, "
+                                   f"{side}, {speed})")
+        os.makedirs(workdir, exist_ok=True)
+        self.workdir, self.materials, self.g = workdir, dict(materials or {}), float(gravity)
+        self.mass, self.side, self.speed, self.alpha = float(mass), float(side), float(speed), alpha
+        self.bond_zeta = bond_zeta
+        prefix = os.path.join(workdir, "fence")
+        self.data_path = liggghts.generate("fence", prefix, *generator_options(
+            modules, spacing, height, net, post_tilt, head_guides, gen_options))
+        self.json_path, self.shackles = prefix + ".json", prefix + ".shackles"
+        self.meta = read_json(self.json_path)
+        self.layers = 2 if net == "compound" else 1
+        self.block_path = os.path.join(workdir, "block.stl")
+        liggghts.generate("shape truncated-cube", self.block_path, "--side", side, "--mass", mass)
+        shape = read_json(os.path.join(workdir, "block.json"))
+        self.inertia = np.asarray(shape["inertia"], float)
+        self.cut = float(shape["parameters"]["corner_cut"])
+        self.quat = block_turn(self.meta["fence"]["post_tilt_deg"])
+        data = read_data(self.data_path)
+        masses = punch.node_masses(data)
+        self.fence_mass = float(np.sum(masses))
+        self.node_r = float(np.max(data.atoms[data.atoms[:, 1] <= 8, 5]) / 2)
+        self.dt_bonds = self._bond_estimate(np_)
+        # the block's contact (kn, ks) on the lightest node: omega^2 = (kn + 2.5 ks) / m
+        resolved = model.resolve(self.materials)
+        w2 = (resolved["kn"] + 2.5 * resolved["ks"]) / float(np.min(masses))
+        if self.layers > 1:
+            w2 *= 2.0
+        self.dt_contact = 2.0 / math.sqrt(w2)
+        self.dt_stable = min(self.dt_bonds, self.dt_contact)
+        self.dt = float(dt) if dt else DT_SAFETY * self.dt_stable
+        if self.dt > self.dt_stable:
+            raise PostprocessError(f"fence.dt = {self.dt:g} s exceeds the stable step "
+                                   f"{self.dt_stable:g} s (bonds {self.dt_bonds:g} s, contact "
+                                   f"{self.dt_contact:g} s)")
+        self.duration, self.settle_time = float(duration), float(settle_time)
+        self.steps = int(math.ceil(self.duration / self.dt))
+        self.every = max(int(round(row_time / self.dt)), 1)
+        self.relax_steps = int(math.ceil(self.settle_time / self.dt / self.every)) * self.every
+        self.dump_every = self.every * int(dump_rows)
+        self.frame_every = max(int(math.ceil(self.steps / int(frames))), 1)
+
+    def _base_variables(self):
+        section = self.meta["posts"]["section"]
+        ropes = self.meta["ropes"]
+        return dict(punch.model_variables(self.materials), data=os.path.abspath(self.data_path),
+                    shackles=os.path.abspath(self.shackles),
+                    support_d=repr(ropes["support"]["diameter"]),
+                    upslope_d=repr(ropes["upslope"]["diameter"]), post_A=repr(section["A"]),
+                    post_Iy=repr(section["Iy"]), post_Iz=repr(section["Iz"]),
+                    post_J=repr(section["J"]), ghost=repr(2.5 * self.meta["max_bond_length"]),
+                    layers=self.layers, g=repr(self.g), out=".")
+
+    def _bond_estimate(self, np_):
+        """The bond style's own stable-step estimate (bond_style wirenet prints it at setup),
+        from a run of no steps: one formula, in C++."""
+        probe = os.path.join(self.workdir, "probe")
+        liggghts.run(liggghts.INPUTS / "fence.in", probe,
+                     dict(self._base_variables(), dt=1e-9, relax_steps=0, steps=0), np=np_,
+                     label="fence: stable step")
+        found = ESTIMATE.findall(open(os.path.join(probe, "log.lammps")).read())
+        if not found:
+            raise PostprocessError(f"{probe}/log.lammps: no stable time step estimate")
+        return float(found[0])
+
+    def variables(self):
+        tx, ty, tz = self.meta["impact_target"]
+        nx, ny, nz = self.meta["normal"]
+        i = self.inertia
+        v = dict(self._base_variables(), dt=repr(self.dt), relax_steps=self.relax_steps,
+                 steps=self.steps, every=self.every, dump_every=self.dump_every,
+                 frame_every=self.frame_every, alpha_relax=ALPHA_RELAX, alpha=self.alpha,
+                 target_x=repr(tx), target_y=repr(ty), target_z=repr(tz), normal_x=repr(nx),
+                 normal_y=repr(ny), normal_z=repr(nz), speed=repr(self.speed),
+                 block_side=repr(self.side), block_cut=repr(self.cut), mass=repr(self.mass),
+                 ixx=repr(i[0, 0]), iyy=repr(i[1, 1]), izz=repr(i[2, 2]), ixy=repr(i[0, 1]),
+                 ixz=repr(i[0, 2]), iyz=repr(i[1, 2]), quat=" ".join(map(repr, self.quat)),
+                 block_half=repr(self.side / 2), gap=GAP, foot_r=repr(max(1.0, self.side)),
+                 node_r=repr(self.node_r))
+        if self.bond_zeta:
+            v["bond_zeta"] = repr(self.bond_zeta)
+        return v
+
+
+# ---------------------------------------------------------------------------------------------
+# reading the run
+
+def read_parts(path):
+    """parts.dump (dump local of compute wirenet/local over ropes, brakes and posts): per frame
+    (step, rows[atom1 atom2 type length0 strain tension length])."""
+    frames, step, rows = [], None, []
+    with open(path) as handle:
+        lines = iter(handle)
+        for line in lines:
+            if line.startswith("ITEM: TIMESTEP"):
+                if step is not None:
+                    frames.append((step, np.array(rows).reshape(-1, 7)))
+                step, rows = int(next(lines)), []
+            elif line.startswith("ITEM:"):
+                if "NUMBER" in line:
+                    next(lines)
+                elif "BOX" in line:
+                    for _ in range(3):
+                        next(lines)
+            elif line.strip():
+                rows.append([float(v) for v in line.split()])
+    if step is not None:
+        frames.append((step, np.array(rows).reshape(-1, 7)))
+    if not frames:
+        raise PostprocessError(f"{path}: no frames")
+    return frames
+
+
+def residual_height(setup, nodes_frame, data):
+    """Least vertical distance between the top and the bottom support rope over the middle
+    module (its posts' x range), at the last frame; the ropes' nodes are type 9, top or bottom
+    by their height in the data file."""
+    modules, spacing = setup.meta["fence"]["modules"], setup.meta["fence"]["spacing"]
+    mid = setup.meta["fence"]["post_x"][modules // 2:modules // 2 + 2]
+    rope = data.atoms[data.atoms[:, 1] == 9]
+    top_ids = set(rope[rope[:, 4] > 0.5 * setup.meta["fence"]["height"], 0].astype(int))
+    ids, pos = nodes_frame
+    ropes = np.isin(ids, rope[:, 0].astype(int))
+    inside = ropes & (pos[:, 0] >= min(mid)) & (pos[:, 0] <= max(mid))
+    top = inside & np.isin(ids, list(top_ids))
+    bottom = inside & ~np.isin(ids, list(top_ids))
+    if not top.any() or not bottom.any():
+        raise PostprocessError("fence: no support rope nodes in the middle module")
+    order = np.argsort(pos[bottom, 0])
+    zb = np.interp(pos[top, 0], pos[bottom, 0][order], pos[bottom, 2][order])
+    return float(np.min(pos[top, 2] - zb)), float(spacing)
+
+
+def last_nodes(path):
+    """(ids, positions) of the last frame of frames/nodes.dump (id type x y z)."""
+    with open(path) as handle:
+        text = handle.read()
+    last = text.rsplit("ITEM: TIMESTEP", 1)[-1].split("ITEM: ATOMS", 1)[1].splitlines()[1:]
+    rows = np.array([[float(v) for v in line.split()] for line in last if line.strip()])
+    return rows[:, 0].astype(int), rows[:, 2:5]
+
+
+def write_outputs(setup, case_dir, workdir, t):
+    """block.csv, energy.csv, supports.csv, ropes.csv, brakes.csv, ruptures.csv and the ParaView
+    series; returns the facts for case.json."""
+    time_ = t["time"] - t["time"][0]
+    n = np.asarray(setup.meta["normal"], float)
+    pos = np.column_stack([t["x"], t["y"], t["z"]])
+    travel = (pos[0] - pos) @ n
+    write_csv(os.path.join(case_dir, "block.csv"),
+              ("time", "x", "y", "z", "vx", "vy", "vz", "travel", "force"),
+              zip(time_, t["x"], t["y"], t["z"], t["vx"], t["vy"], t["vz"], travel, t["force"]))
+    terms, total, e0, error = fence.energy_budget(t)
+    write_csv(os.path.join(case_dir, "energy.csv"),
+              ("time",) + fence.ENERGY_TERMS + ("total", "closure_error"),
+              zip(time_, *(terms[k] for k in fence.ENERGY_TERMS), total, error))
+    gap = fence.momentum_balance(t, setup.mass, setup.fence_mass, setup.g)
+
+    names = {a["id"]: a["name"] for a in setup.meta["anchors"]}
+    names.update({b: f"post_base_{k}" for k, b in enumerate(setup.meta["post_bases"])})
+    supports, peaks = [], {}
+    for file in ("anchors.txt", "bases.txt"):
+        steps, ids, forces = fence.read_support_rows(os.path.join(workdir, file))
+        magnitude = np.linalg.norm(forces, axis=2)
+        for k, atom in enumerate(ids):
+            j = int(np.argmax(magnitude[:, k]))
+            peaks[names[int(atom)]] = dict(atom=int(atom), peak=float(magnitude[j, k]),
+                                           time=float((steps[j] - steps[0]) * setup.dt),
+                                           at_peak=forces[j, k].tolist())
+        supports.append((steps, ids, magnitude))
+    steps = supports[0][0]
+    write_csv(os.path.join(case_dir, "supports.csv"),
+              ("time",) + tuple(names[int(a)] for _, ids, _ in supports for a in ids),
+              zip((steps - steps[0]) * setup.dt, *(m[:, k] for _, ids, m in supports
+                                                    for k in range(len(ids)))))
+
+    frames = read_parts(os.path.join(workdir, "parts.dump"))
+    families = {}
+    for family, types in FAMILY_TYPES.items():
+        series = [float(np.max(np.abs(rows[np.isin(rows[:, 2], types), 5]), initial=0.0))
+                  for _, rows in frames]
+        families[family] = series
+    part_times = [(s - frames[0][0]) * setup.dt for s, _ in frames]
+    write_csv(os.path.join(case_dir, "ropes.csv"), ("time",) + tuple(families),
+              zip(part_times, *families.values()))
+    brake_rows = [rows[np.isin(rows[:, 2], (6, 8))] for _, rows in frames]
+    brake_keys = [f"{int(a)}-{int(b)}" for a, b in brake_rows[0][:, :2]]
+    elongation = [dict(zip((f"{int(a)}-{int(b)}" for a, b in r[:, :2]), r[:, 6] - r[:, 3]))
+                  for r in brake_rows]
+    write_csv(os.path.join(case_dir, "brakes.csv"), ("time",) + tuple(brake_keys),
+              zip(part_times, *([e.get(k, math.nan) for e in elongation] for k in brake_keys)))
+
+    ruptures = punch.read_ruptures(os.path.join(workdir, "ruptures.dump"))
+    by_family = {}
+    for row in ruptures:
+        family = setup.meta["bond_families"].get(str(int(row[3])), f"type{int(row[3])}")
+        by_family[family] = by_family.get(family, 0) + 1
+
+    data = read_data(setup.data_path)
+    height, _ = residual_height(setup, last_nodes(os.path.join(workdir, "frames", "nodes.dump")),
+                                data)
+    bodyframes.write_body_frames(workdir, setup.block_path)
+    vtu.write_case_series(case_dir, workdir, setup.data_path, setup.dt)
+    touched = np.nonzero(t["force"] > 0)[0]
+    first = int(touched[0]) if touched.size else 0
+    speed = np.sqrt(t["vx"] ** 2 + t["vy"] ** 2 + t["vz"] ** 2)
+    return dict(
+        braking_distance=float(np.max(travel) - travel[first]),
+        time_of_braking_distance=float(time_[int(np.argmax(travel))]),
+        residual_height=height, nominal_height=float(setup.meta["fence"]["height"]),
+        residual_height_ratio=height / float(setup.meta["fence"]["height"]),
+        final_block_speed=float(speed[-1]),
+        support_peaks=peaks,
+        rope_peaks={f: float(np.max(s)) for f, s in families.items()},
+        brake_elongation_peak=float(np.nanmax([max(e.values()) for e in elongation])),
+        energy=dict(closure_error=float(np.max(np.abs(error))), initial_energy=e0,
+                    final_error=float(error[-1]),
+                    final={k: float(terms[k][-1]) for k in fence.ENERGY_TERMS}),
+        momentum=dict(error=float(np.max(np.linalg.norm(gap, axis=1))),
+                      final_error=float(np.linalg.norm(gap[-1]))),
+        broken_bonds=len(ruptures), ruptures_by_family=by_family)
+
+
+def run_case(case_dir, np_=1, **setup_options):
+    """One fence impact case; returns the facts for case.json."""
+    setup = Setup(os.path.join(case_dir, "setup"), np_=np_, **setup_options)
+    workdir = os.path.join(case_dir, "run")
+    start = time.time()
+    wall = liggghts.run(liggghts.INPUTS / "fence.in", workdir, setup.variables(), np=np_,
+                        total_steps=setup.steps, label="fence", dt=setup.dt,
+                        phase_marker="impact: block released")
+    table = fence.read_table(workdir)
+    facts = write_outputs(setup, case_dir, workdir, table)
+    facts.update(fence=setup.meta["fence"], fence_mass=setup.fence_mass, atoms=int(
+        setup.meta["counts"]["atoms"]), block=dict(mass=setup.mass, side=setup.side,
+                                                  speed=setup.speed, quat=list(setup.quat),
+                                                  energy=0.5 * setup.mass * setup.speed ** 2),
+                 gravity=setup.g, damping=setup.alpha, bond_damping=setup.bond_zeta,
+                 dt=setup.dt, dt_stable_bonds=setup.dt_bonds, dt_stable_contact=setup.dt_contact,
+                 steps=setup.steps, duration=setup.duration, settle_time=setup.settle_time,
+                 relax_steps=setup.relax_steps, run_wall_time=wall,
+                 post_wall_time=time.time() - start - wall)
+    return facts

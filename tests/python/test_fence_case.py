@@ -1,0 +1,88 @@
+"""The fence study as a user types it (`./wirenet run fence --quick`, issue #18): the compound
+and the square net in the same three-module fence, each hit by the quick block, from the case
+files of inputs/cases/ to the report. Checked:
+- each case closes its energy budget and balances momentum within 1e-3 (runner/fence.py from
+  the deck's own tallies);
+- the block is stopped within the module (braking distance > 0, residual height above the
+  guideline's 50 % of category A for this small impact);
+- supports.csv names every anchor and post base of the generator's JSON, and the peak of each
+  in case.json is the largest value of its column;
+- the fence's left and right anchors of each rope carry mirror-equal peaks (the impact is on
+  the centre line);
+- the report holds the fence table and the compound-vs-square verdict, with both figures.
+"""
+
+import json
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import lmp
+
+DRIVER = lmp.ROOT / "wirenet"
+
+
+@pytest.fixture(scope="module")
+def study(tmp_path_factory):
+    out = tmp_path_factory.mktemp("fence_study")
+    env = dict(os.environ, WIRENET_SETUP="skip", WIRENET_BUILD=str(lmp.BUILD))
+    p = subprocess.run([str(DRIVER), "run", "fence", "--quick", "--out", str(out)],
+                       capture_output=True, text=True, env=env, timeout=1800)
+    assert p.returncode == 0, p.stderr[-2000:] + p.stdout[-2000:]
+    return out
+
+
+def case_json(study, name):
+    return json.loads((study / name / "case.json").read_text())
+
+
+@pytest.mark.parametrize("name", ["fence_compound", "fence_square"])
+def test_budget_and_momentum_close(study, name):
+    m = case_json(study, name)
+    assert m["status"] == "ok" and m["kind"] == "fence" and m["mode"] == "quick"
+    assert m["energy"]["closure_error"] < 1e-3
+    assert m["momentum"]["error"] < 1e-3
+    assert m["energy"]["initial_energy"] == pytest.approx(m["block"]["energy"], rel=0.05)
+    assert m["dt"] <= 0.5 * min(m["dt_stable_bonds"], m["dt_stable_contact"]) * (1 + 1e-12)
+
+
+@pytest.mark.parametrize("name", ["fence_compound", "fence_square"])
+def test_block_is_caught(study, name):
+    m = case_json(study, name)
+    assert 0.05 < m["braking_distance"] < m["fence"]["height"]
+    assert m["residual_height_ratio"] > 0.5
+    assert m["broken_bonds"] == 0
+
+
+def test_supports_are_named_and_peaks_match(study):
+    case = study / "fence_compound"
+    m = case_json(study, "fence_compound")
+    gen = json.loads((case / "setup" / "fence.json").read_text())
+    table = np.genfromtxt(case / "supports.csv", delimiter=",", names=True)
+    names = [a["name"] for a in gen["anchors"]] + [f"post_base_{k}" for k in range(len(gen["post_bases"]))]
+    assert sorted(table.dtype.names[1:]) == sorted(names)
+    for name in names:
+        assert m["support_peaks"][name]["peak"] == pytest.approx(np.max(table[name]), rel=1e-5)
+    # the impact is on the centre line: left and right lateral anchors mirror each other
+    for rope in ("top", "bottom"):
+        left = m["support_peaks"][f"lateral_left_{rope}"]["peak"]
+        right = m["support_peaks"][f"lateral_right_{rope}"]["peak"]
+        assert left == pytest.approx(right, rel=0.02)
+
+
+def test_report_compares_the_nets(study):
+    report = (study / "report.md").read_text()
+    assert "## Fence cases (EAD 340059-00-0106)" in report
+    assert "| fence_compound | compound |" in report and "| fence_square | square |" in report
+    summary = json.loads((study / "summary.json").read_text())
+    comparison = summary["fence_comparison"]
+    assert comparison["compound"] == "fence_compound" and comparison["square"] == "fence_square"
+    m_c, m_s = case_json(study, "fence_compound"), case_json(study, "fence_square")
+    base = lambda m: max(v["peak"] for k, v in m["support_peaks"].items() if k.startswith("post_base"))
+    assert comparison["post_base_ratio"] == pytest.approx(base(m_c) / base(m_s), rel=1e-9)
+    assert comparison["verdict"] in report
+    for name in ("fence_compound", "fence_square"):
+        assert (study / "figures" / f"fence_{name}.png").is_file()
+        assert (study / name / f"{name}.pvd").is_file()

@@ -90,7 +90,10 @@ def write_supports(case, setup_dir):
 
 
 def output_options(case):
-    """Row, dump and frame intervals of the case's [output] keys."""
+    """Row, dump and frame intervals of the case's [output] keys (a fence dumps its ropes at
+    every row)."""
+    if case.kind == "fence":
+        return {"row_time": case["fence.row_time"], "frames": case["output.frames"]}
     rows = {"punch": ("row_travel", "output.row_travel"), "impact": ("row_time", "output.row_time"),
             "fence": ("row_time", "fence.row_time")}
     name, path = rows[case.kind]

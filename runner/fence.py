@@ -22,7 +22,7 @@ import time
 
 import numpy as np
 
-from postprocess import bodyframes, fence, liggghts, model, vtu
+from postprocess import bodyframes, dumps, fence, liggghts, model, vtu
 from postprocess.csvio import write_csv
 from postprocess.datafile import read_data
 from postprocess.errors import PostprocessError
@@ -70,7 +70,7 @@ class Setup:
     def __init__(self, workdir, modules=3, spacing=10.0, height=5.0, net="compound",
                  post_tilt=10.0, head_guides="clamp", mass=BLOCK["mass"], side=BLOCK["side"],
                  speed=BLOCK["speed"], duration=0.8, settle_time=1.0, dt=None, alpha=ALPHA,
-                 bond_zeta=BOND_ZETA, gravity=G, materials=None, row_time=2e-3, dump_rows=10,
+                 bond_zeta=BOND_ZETA, gravity=G, materials=None, row_time=2e-3,
                  frames=40, gen_options=(), np_=1):
         if not (mass > 0 and side > 0 and speed > 0):
             raise PostprocessError(f"fence: block mass, side and speed must be > 0 (got {mass}, "
@@ -112,7 +112,6 @@ class Setup:
         self.steps = int(math.ceil(self.duration / self.dt))
         self.every = max(int(round(row_time / self.dt)), 1)
         self.relax_steps = int(math.ceil(self.settle_time / self.dt / self.every)) * self.every
-        self.dump_every = self.every * int(dump_rows)
         self.frame_every = max(int(math.ceil(self.steps / int(frames))), 1)
 
     def _base_variables(self):
@@ -143,7 +142,7 @@ class Setup:
         nx, ny, nz = self.meta["normal"]
         i = self.inertia
         v = dict(self._base_variables(), dt=repr(self.dt), relax_steps=self.relax_steps,
-                 steps=self.steps, every=self.every, dump_every=self.dump_every,
+                 steps=self.steps, every=self.every, dump_every=self.every,
                  frame_every=self.frame_every, alpha_relax=ALPHA_RELAX, alpha=self.alpha,
                  target_x=repr(tx), target_y=repr(ty), target_z=repr(tz), normal_x=repr(nx),
                  normal_y=repr(ny), normal_z=repr(nz), speed=repr(self.speed),
@@ -163,24 +162,7 @@ class Setup:
 def read_parts(path):
     """parts.dump (dump local of compute wirenet/local over ropes, brakes and posts): per frame
     (step, rows[atom1 atom2 type length0 strain tension length])."""
-    frames, step, rows = [], None, []
-    with open(path) as handle:
-        lines = iter(handle)
-        for line in lines:
-            if line.startswith("ITEM: TIMESTEP"):
-                if step is not None:
-                    frames.append((step, np.array(rows).reshape(-1, 7)))
-                step, rows = int(next(lines)), []
-            elif line.startswith("ITEM:"):
-                if "NUMBER" in line:
-                    next(lines)
-                elif "BOX" in line:
-                    for _ in range(3):
-                        next(lines)
-            elif line.strip():
-                rows.append([float(v) for v in line.split()])
-    if step is not None:
-        frames.append((step, np.array(rows).reshape(-1, 7)))
+    frames = [(f.step, f.data) for f in dumps.iter_frames(path)]
     if not frames:
         raise PostprocessError(f"{path}: no frames")
     return frames
@@ -208,11 +190,13 @@ def residual_height(setup, nodes_frame, data):
 
 def last_nodes(path):
     """(ids, positions) of the last frame of frames/nodes.dump (id type x y z)."""
-    with open(path) as handle:
-        text = handle.read()
-    last = text.rsplit("ITEM: TIMESTEP", 1)[-1].split("ITEM: ATOMS", 1)[1].splitlines()[1:]
-    rows = np.array([[float(v) for v in line.split()] for line in last if line.strip()])
-    return rows[:, 0].astype(int), rows[:, 2:5]
+    frame = None
+    for frame in dumps.iter_frames(path):
+        pass
+    if frame is None:
+        raise PostprocessError(f"{path}: no frames")
+    return frame.integers(frame.names.index("id")), np.column_stack(
+        [frame.column(c) for c in ("x", "y", "z")])
 
 
 def write_outputs(setup, case_dir, workdir, t):

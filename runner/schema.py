@@ -252,8 +252,7 @@ KEYS = [
     Key("output.row_time", "number", impact.OUTPUT_INTERVAL, "s", "time between rows of "
         "impact.csv, block.csv, energy.csv and momentum.csv", "WireNet (runner/impact.py)",
         low=0.0, low_open=True, kind="impact"),
-    Key("output.dump_rows", "integer", {"punch": punch.DUMP_ROWS, "impact": impact.DUMP_ROWS,
-                                        "fence": impact.DUMP_ROWS},
+    Key("output.dump_rows", "integer", {"punch": punch.DUMP_ROWS, "impact": impact.DUMP_ROWS},
         "", "rows between dumps of the bond tensions (zone forces, Figure 4's frame)",
         "WireNet (runner/punch.py, impact.py)", low=1),
     Key("output.frames", "integer", {"punch": punch.FRAMES, "impact": impact.FRAMES,
@@ -271,7 +270,8 @@ BY_PATH = {k.path: k for k in KEYS}
 # keys of a panel case that a fence has no use for: its modules' size is fence.spacing x
 # fence.height, its supports are its anchors and posts, it always settles first (fence.settle_time),
 # its outputs are per component
-NOT_FOR_FENCE = ("panel.width", "panel.height", "supports.", "preload.", "output.zones")
+NOT_FOR_FENCE = ("panel.width", "panel.height", "supports.", "preload.", "output.zones",
+                 "output.dump_rows")
 
 
 def applies(key, kind):

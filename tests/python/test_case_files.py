@@ -55,6 +55,7 @@ def error_of(text):
     ('kind = "fence"\n[preload]\nmode = "none"\n', "preload.mode: not used by a fence case"),
     ('kind = "fence"\n[[output.zones]]\nname = "a"\n', "output.zones: not used by a fence case"),
     ('kind = "fence"\n[fence]\nmodules = 0\n', "fence.modules: must be >= 1, got 0"),
+    ('kind = "fence"\n[output]\ndump_rows = 3\n', "output.dump_rows: not used by a fence case"),
     ('kind = "fence"\n[fence]\nhead_guides = "glued"\n', "fence.head_guides: must be one of clamp, slide"),
     ('kind = "fence"\n[fence]\nspeed = nan\n', "fence.speed: must be a finite number"),
     ('kind = "fence"\n[fence]\npost_tilt = 75.0\n', "fence.post_tilt: must be <= 40"),

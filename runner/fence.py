@@ -28,7 +28,7 @@ from postprocess.datafile import read_data
 from postprocess.errors import PostprocessError
 from postprocess.meta import read_json
 
-from . import punch
+from . import impact, punch
 
 # EAD 340059-00-0106 (formerly ETAG 027): a block of concrete (density >= 2600 kg/m3 here) at
 # >= 25 m/s; 1600 kg at 25 m/s is 500 kJ, the maximum energy level of a "500 kJ" kit. Side
@@ -172,7 +172,7 @@ def residual_height(setup, nodes_frame, data):
     """Least vertical distance between the top and the bottom support rope over the middle
     module (its posts' x range), at the last frame; the ropes' nodes are type 9, top or bottom
     by their height in the data file."""
-    modules, spacing = setup.meta["fence"]["modules"], setup.meta["fence"]["spacing"]
+    modules = setup.meta["fence"]["modules"]
     mid = setup.meta["fence"]["post_x"][modules // 2:modules // 2 + 2]
     rope = data.atoms[data.atoms[:, 1] == 9]
     top_ids = set(rope[rope[:, 4] > 0.5 * setup.meta["fence"]["height"], 0].astype(int))
@@ -185,7 +185,7 @@ def residual_height(setup, nodes_frame, data):
         raise PostprocessError("fence: no support rope nodes in the middle module")
     order = np.argsort(pos[bottom, 0])
     zb = np.interp(pos[top, 0], pos[bottom, 0][order], pos[bottom, 2][order])
-    return float(np.min(pos[top, 2] - zb)), float(spacing)
+    return float(np.min(pos[top, 2] - zb))
 
 
 def last_nodes(path):
@@ -234,14 +234,14 @@ def write_outputs(setup, case_dir, workdir, t):
                                                     for k in range(len(ids)))))
 
     frames = read_parts(os.path.join(workdir, "parts.dump"))
-    families = {}
+    peaks_of = {}
     for family, types in FAMILY_TYPES.items():
         series = [float(np.max(np.abs(rows[np.isin(rows[:, 2], types), 5]), initial=0.0))
                   for _, rows in frames]
-        families[family] = series
+        peaks_of[family] = series
     part_times = [(s - frames[0][0]) * setup.dt for s, _ in frames]
-    write_csv(os.path.join(case_dir, "ropes.csv"), ("time",) + tuple(families),
-              zip(part_times, *families.values()))
+    write_csv(os.path.join(case_dir, "ropes.csv"), ("time",) + tuple(peaks_of),
+              zip(part_times, *peaks_of.values()))
     brake_rows = [rows[np.isin(rows[:, 2], (6, 8))] for _, rows in frames]
     brake_keys = [f"{int(a)}-{int(b)}" for a, b in brake_rows[0][:, :2]]
     elongation = [dict(zip((f"{int(a)}-{int(b)}" for a, b in r[:, :2]), r[:, 6] - r[:, 3]))
@@ -249,14 +249,21 @@ def write_outputs(setup, case_dir, workdir, t):
     write_csv(os.path.join(case_dir, "brakes.csv"), ("time",) + tuple(brake_keys),
               zip(part_times, *([e.get(k, math.nan) for e in elongation] for k in brake_keys)))
 
-    ruptures = punch.read_ruptures(os.path.join(workdir, "ruptures.dump"))
+    # the net's families from the JSON, the fence parts' as the deck names them (the JSON calls
+    # a support rope "rope", as the square mesh's strand rope)
+    family_of = {int(k): v for k, v in setup.meta["bond_families"].items()}
+    family_of.update({t: family for family, types in FAMILY_TYPES.items() for t in types})
+    ruptures = impact.read_ruptures(os.path.join(workdir, "ruptures.dump"), setup.dt, family_of)
+    write_csv(os.path.join(case_dir, "ruptures.csv"),
+              ("time", "atom1", "atom2", "type", "family", "x", "y", "z", "elongation"),
+              [(r["time"], r["atom1"], r["atom2"], r["type"], r["family"], r["x"], r["y"],
+                r["z"], r["elongation"]) for r in ruptures])
     by_family = {}
-    for row in ruptures:
-        family = setup.meta["bond_families"].get(str(int(row[3])), f"type{int(row[3])}")
-        by_family[family] = by_family.get(family, 0) + 1
+    for r in ruptures:
+        by_family[r["family"]] = by_family.get(r["family"], 0) + 1
 
     data = read_data(setup.data_path)
-    height, _ = residual_height(setup, last_nodes(os.path.join(workdir, "frames", "nodes.dump")),
+    height = residual_height(setup, last_nodes(os.path.join(workdir, "frames", "nodes.dump")),
                                 data)
     bodyframes.write_body_frames(workdir, setup.block_path)
     vtu.write_case_series(case_dir, workdir, setup.data_path, setup.dt)
@@ -270,14 +277,15 @@ def write_outputs(setup, case_dir, workdir, t):
         residual_height_ratio=height / float(setup.meta["fence"]["height"]),
         final_block_speed=float(speed[-1]),
         support_peaks=peaks,
-        rope_peaks={f: float(np.max(s)) for f, s in families.items()},
+        rope_peaks={f: float(np.max(s)) for f, s in peaks_of.items()},
         brake_elongation_peak=float(np.nanmax([max(e.values()) for e in elongation])),
         energy=dict(closure_error=float(np.max(np.abs(error))), initial_energy=e0,
                     final_error=float(error[-1]),
                     final={k: float(terms[k][-1]) for k in fence.ENERGY_TERMS}),
         momentum=dict(error=float(np.max(np.linalg.norm(gap, axis=1))),
                       final_error=float(np.linalg.norm(gap[-1]))),
-        broken_bonds=len(ruptures), ruptures_by_family=by_family)
+        broken_bonds=len(ruptures), ruptures_by_family=by_family,
+        first_rupture=impact.rupture_facts(ruptures[0]) if ruptures else None)
 
 
 def run_case(case_dir, np_=1, **setup_options):

@@ -86,3 +86,26 @@ def test_report_compares_the_nets(study):
     for name in ("fence_compound", "fence_square"):
         assert (study / "figures" / f"fence_{name}.png").is_file()
         assert (study / name / f"{name}.pvd").is_file()
+        for csv in ("block", "energy", "supports", "ropes", "brakes", "ruptures"):
+            assert (study / name / f"{csv}.csv").is_file(), csv
+
+
+def test_residual_height_is_the_least_gap_over_the_middle_module():
+    """runner.fence.residual_height on a made-up fence of 3 modules (posts at x = -15, -5, 5,
+    15): the top rope sags to z = 2 at x = 0 and to z = 1 at x = 10 (outside the middle module),
+    the bottom rope lies at z = 0.5 under the middle: 2 - 0.5 = 1.5."""
+    import types
+    from runner import fence as runner_fence
+    xs = np.arange(-20.0, 20.5, 0.5)
+    top_z = 5.0 - 3.0 * np.exp(-xs ** 2) - 4.0 * np.exp(-(xs - 10.0) ** 2)
+    bottom_z = np.where(np.abs(xs) <= 5.0, 0.5, 0.0)
+    n = len(xs)
+    ids = np.arange(1, 2 * n + 1)
+    atoms = np.zeros((2 * n, 7))
+    atoms[:, 0], atoms[:, 1] = ids, 9
+    atoms[:n, 4], atoms[n:, 4] = 5.0, 0.0                 # data file: top at 5 m, bottom at 0
+    setup = types.SimpleNamespace(meta={"fence": {"modules": 3, "post_x": [-15, -5, 5, 15],
+                                                  "height": 5.0}})
+    pos = np.column_stack([np.r_[xs, xs], np.zeros(2 * n), np.r_[top_z, bottom_z]])
+    data = types.SimpleNamespace(atoms=atoms)
+    assert runner_fence.residual_height(setup, (ids, pos), data) == pytest.approx(1.5, abs=1e-9)

@@ -35,11 +35,12 @@ from . import impact, punch
 # 0.865 m: the truncated cube (corner cut side/3) of 1600 kg at 2600 kg/m3.
 BLOCK = dict(mass=1600.0, side=0.865, speed=25.0)
 ALPHA_RELAX = 0.7        # local damping while the fence settles under its weight
-# Dissipation during the impact (doc/fence.md): no local damping (it would take most of the
-# block's energy: 61 % of 500 kJ at 0.1), 5 % of critical viscous bond damping against the
-# ringing of the wires instead; the fence dissipates in its brakes, wires and shackles
-ALPHA = 0.0
-BOND_ZETA = 0.05
+# Dissipation during the impact (doc/fence.md): local damping 0.1 on every atom. It takes most
+# of the block's energy (61 % of 500 kJ), but without it (5 % bond damping instead) the
+# compound fence whips: its top rope breaks at 0.16 s and a brake on a free rope end outruns the
+# ghost atoms (doc/fence.md, "Dissipation"); an open question, reported as its own term
+ALPHA = 0.1
+BOND_ZETA = 0.0
 # The block's contact: a penalty 100x softer than the paper's 1e9 N/m, so that it does not set
 # the step on 4 g hex nodes; a wire's breaking force (~3 kN) overlaps it by ~0.3 mm, against
 # node radii of 5 mm (doc/fence.md)

@@ -158,7 +158,7 @@ KEYS = [
     Key("damping.bond", "number", {"punch": 0.0, "impact": 0.0, "cantilever": 0.0,
                                    "fence": fence.BOND_ZETA}, "", "viscous bond damping, "
         "fraction of each bond's critical damping (momentum-conserving; doc/impact.md uses 0.05 "
-        "with local 0, the fence's default)", "doc/impact.md, doc/fence.md", low=0.0, high=9.99),
+        "with local 0)", "doc/impact.md, doc/fence.md", low=0.0, high=9.99),
     # --- punch -------------------------------------------------------------------------------
     Key("punch.platter", "choice", "spheroid", "", "platter shape: spheroid (the paper's "
         "semi-spheroid), cone (flat tip), sphere", PAPER, choices=("spheroid", "cone", "sphere"),

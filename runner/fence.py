@@ -37,8 +37,8 @@ BLOCK = dict(mass=1600.0, side=0.865, speed=25.0)
 ALPHA_RELAX = 0.7        # local damping while the fence settles under its weight
 # Dissipation during the impact (doc/fence.md): local damping 0.1 on every atom. It takes most
 # of the block's energy (61 % of 500 kJ), but without it (5 % bond damping instead) the
-# compound fence whips: its top rope breaks at 0.16 s and a brake on a free rope end outruns the
-# ghost atoms (doc/fence.md, "Dissipation"); an open question, reported as its own term
+# compound fence whips (170 kJ in its own motion) until a slack top-rope end leaves the box
+# (doc/fence.md, "Damping"); an open question, reported as its own term
 ALPHA = 0.1
 BOND_ZETA = 0.0
 # The block's contact: a penalty 100x softer than the paper's 1e9 N/m, so that it does not set

@@ -3,6 +3,7 @@
 import csv
 import io
 import math
+import os
 
 import numpy as np
 
@@ -60,6 +61,22 @@ def read_csv(path, required=(), text_columns=("family", "case", "status")):
             raise at(path, number, f"column {name}: not a finite number: "
                                    f"'{row[index].strip()}'")
     return columns
+
+
+def read_deck_table(path, required=()):
+    """A deck's CSV written by print + fix print ... append (impact.csv, fence.csv): the comment
+    line fix print adds when it appends is dropped (into NAME_rows.csv beside it, which
+    read_csv then reads with its checks); fewer than two rows is an error."""
+    clean = os.path.splitext(path)[0] + "_rows.csv"
+    try:
+        with open(path) as src, open(clean, "w") as dst:
+            dst.writelines(line for line in src if not line.startswith("#"))
+    except OSError as exc:
+        raise PostprocessError(f"{path}: {exc.strerror or exc}") from None
+    table = read_csv(clean, required=required)
+    if len(table[required[0] if required else next(iter(table))]) < 2:
+        raise PostprocessError(f"{path}: fewer than two rows")
+    return table
 
 
 def format_number(value):

@@ -7,7 +7,7 @@ import os
 
 import numpy as np
 
-from .csvio import read_csv
+from .csvio import read_deck_table
 from .errors import PostprocessError, at
 
 COLUMNS = ("step", "time", "x", "y", "z", "vx", "vy", "vz", "force", "ke_block", "pe_block",
@@ -24,18 +24,8 @@ ENERGY_TERMS = ("ke_block", "ke_net", "pe_block", "pe_net", "e_elastic", "e_shac
 
 
 def read_table(workdir):
-    """fence.csv as {column: array}, without the comment line fix print writes when it appends."""
-    path = os.path.join(workdir, "fence.csv")
-    clean = os.path.join(workdir, "fence_rows.csv")
-    try:
-        with open(path) as src, open(clean, "w") as dst:
-            dst.writelines(line for line in src if not line.startswith("#"))
-    except OSError as exc:
-        raise PostprocessError(f"{path}: {exc.strerror or exc}") from None
-    table = read_csv(clean, required=COLUMNS)
-    if len(table["step"]) < 2:
-        raise PostprocessError(f"{path}: fewer than two rows")
-    return table
+    """fence.csv as {column: array}."""
+    return read_deck_table(os.path.join(workdir, "fence.csv"), COLUMNS)
 
 
 def read_support_rows(path):

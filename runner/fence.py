@@ -86,12 +86,9 @@ class Setup:
         self.json_path, self.shackles = prefix + ".json", prefix + ".shackles"
         self.meta = read_json(self.json_path)
         self.layers = 2 if net == "compound" else 1
-        self.block_path = os.path.join(workdir, "block.stl")
-        liggghts.generate("shape truncated-cube", self.block_path, "--side", side, "--mass", mass)
-        shape = read_json(os.path.join(workdir, "block.json"))
-        self.inertia = np.asarray(shape["inertia"], float)
-        self.cut = float(shape["parameters"]["corner_cut"])
-        self.quat = block_turn(self.meta["fence"]["post_tilt_deg"])
+        # the impacts' block, turned as released (the frames draw its STL from that pose)
+        self.block = impact.Block(workdir, mass, side, block_turn(self.meta["fence"]["post_tilt_deg"]))
+        self.block_path, self.quat = self.block.path, self.block.quat
         data = read_data(self.data_path)
         masses = punch.node_masses(data)
         self.fence_mass = float(np.sum(masses))
@@ -141,13 +138,13 @@ class Setup:
     def variables(self):
         tx, ty, tz = self.meta["impact_target"]
         nx, ny, nz = self.meta["normal"]
-        i = self.inertia
+        i = self.block.inertia
         v = dict(self._base_variables(), dt=repr(self.dt), relax_steps=self.relax_steps,
                  steps=self.steps, every=self.every, dump_every=self.every,
                  frame_every=self.frame_every, alpha_relax=ALPHA_RELAX, alpha=self.alpha,
                  target_x=repr(tx), target_y=repr(ty), target_z=repr(tz), normal_x=repr(nx),
                  normal_y=repr(ny), normal_z=repr(nz), speed=repr(self.speed),
-                 block_side=repr(self.side), block_cut=repr(self.cut), mass=repr(self.mass),
+                 block_side=repr(self.side), block_cut=repr(self.block.cut), mass=repr(self.mass),
                  ixx=repr(i[0, 0]), iyy=repr(i[1, 1]), izz=repr(i[2, 2]), ixy=repr(i[0, 1]),
                  ixz=repr(i[0, 2]), iyz=repr(i[1, 2]), quat=" ".join(map(repr, self.quat)),
                  block_half=repr(self.side / 2), gap=GAP, foot_r=repr(max(1.0, self.side)),

@@ -26,7 +26,7 @@ import time
 import numpy as np
 
 from postprocess import bodyframes, liggghts, model, solid, vtu
-from postprocess.csvio import read_csv, write_csv
+from postprocess.csvio import read_csv, read_deck_table, write_csv
 from postprocess.datafile import read_data
 from postprocess.errors import PostprocessError
 from postprocess.meta import PanelInfo, read_json
@@ -200,13 +200,7 @@ COLUMNS = ("step", "time", "x", "y", "z", "vx", "vy", "vz", "force", "fx", "fy",
 
 def read_impact(workdir):
     """impact.csv without the comment line that fix print adds when it appends."""
-    path = os.path.join(workdir, "impact.csv")
-    clean = os.path.join(workdir, "impact_rows.csv")
-    with open(path) as src, open(clean, "w") as dst:
-        dst.writelines(line for line in src if not line.startswith("#"))
-    table = read_csv(clean, required=COLUMNS)
-    if len(table["step"]) < 2:
-        raise PostprocessError(f"{workdir}/impact.csv: fewer than two rows")
+    table = read_deck_table(os.path.join(workdir, "impact.csv"), COLUMNS)
     table["w_bond_damping"] = _bond_damping_work(workdir, table["step"])
     return table
 

@@ -109,3 +109,27 @@ def test_residual_height_is_the_least_gap_over_the_middle_module():
     pos = np.column_stack([np.r_[xs, xs], np.zeros(2 * n), np.r_[top_z, bottom_z]])
     data = types.SimpleNamespace(atoms=atoms)
     assert runner_fence.residual_height(setup, (ids, pos), data) == pytest.approx(1.5, abs=1e-9)
+
+
+def test_a_time_step_above_the_stable_one_is_refused(tmp_path):
+    """fence.dt above the smaller of the bond style's estimate and the contact limit: one line
+    naming the key and both limits, a non-zero exit, no LIGGGHTS run of the case."""
+    env = dict(os.environ, WIRENET_SETUP="skip", WIRENET_BUILD=str(lmp.BUILD))
+    p = subprocess.run([str(DRIVER), "run", "fence_compound", "--quick", "--set", "fence.dt=1e-3",
+                        "--out", str(tmp_path)], capture_output=True, text=True, env=env,
+                       timeout=600)
+    assert p.returncode != 0
+    line = p.stderr.strip().splitlines()[-1]
+    assert "fence.dt = 0.001 s exceeds the stable step" in line and "bonds" in line, line
+    assert not (tmp_path / "fence_compound" / "run").exists()
+
+
+def test_deck_table_reader_names_the_file(tmp_path):
+    from postprocess import fence as post_fence
+    from postprocess.errors import PostprocessError
+    with pytest.raises(PostprocessError, match="fence.csv: No such file"):
+        post_fence.read_table(tmp_path)
+    (tmp_path / "fence.csv").write_text(",".join(post_fence.COLUMNS) + "\n# Fix print output\n" +
+                                        ",".join("0" for _ in post_fence.COLUMNS) + "\n")
+    with pytest.raises(PostprocessError, match="fence.csv: fewer than two rows"):
+        post_fence.read_table(tmp_path)

@@ -387,10 +387,15 @@ void FixWirenetBody::compute_contacts(bool advance)
   if (!candidates_valid || (pos - candidates_pos).norm() > 0.5 * margin) {
     candidates.clear();
     const double reach = bounded ? bound + margin : std::numeric_limits<double>::infinity();
+    // an unbounded body that does not turn (a ground plane): the shape's distance bound, which
+    // changes by at most the body's travel, skips the atoms far from its surface
+    const bool far_test = !bounded && omega.squaredNorm() == 0.0;
     for (int i = 0; i < nlocal; i++) {
       if (!(mask[i] & groupbit)) continue;
-      const double d = Vector3d(x[i][0] - pos[0], x[i][1] - pos[1], x[i][2] - pos[2]).norm();
-      if (!(d > reach + radius[i])) candidates.push_back(i);
+      const Vector3d rel(x[i][0] - pos[0], x[i][1] - pos[1], x[i][2] - pos[2]);
+      if (far_test) {
+        if (!(shape->distance_bound(R.transpose() * rel) > margin + radius[i])) candidates.push_back(i);
+      } else if (!(rel.norm() > reach + radius[i])) candidates.push_back(i);
     }
     candidates_pos = pos;
     candidates_valid = margin > 0.0;

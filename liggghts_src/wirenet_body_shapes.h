@@ -100,6 +100,7 @@ class PlaneShape : public BodyShape {
  public:
   void query(const Eigen::Vector3d &p, SurfacePoint &out) const;
   double bounding_radius() const;
+  double distance_bound(const Eigen::Vector3d &p) const { return p[2]; }  // exact
   bool centred() const { return false; }
   std::string name() const { return "plane"; }
 };

@@ -15,12 +15,12 @@ COLUMNS = ("step", "time", "x", "y", "z", "vx", "vy", "vz", "force", "ke_block",
            "e_released", "broken", "w_damping", "w_bond_damping", "w_contact_pair", "e_shackle",
            "w_friction", "w_shackle_damping", "sliding", "px_net", "py_net", "pz_net", "jx_damp",
            "jy_damp", "jz_damp", "anchors_x", "anchors_y", "anchors_z", "bases_x", "bases_y",
-           "bases_z")
+           "bases_z", "w_ground", "ground_x", "ground_y", "ground_z")
 
 # stored energies and dissipations, in the order of energy.csv
 ENERGY_TERMS = ("ke_block", "ke_net", "pe_block", "pe_net", "e_elastic", "e_shackle", "w_plastic",
-                "e_released", "damping", "bond_damping", "contact", "contact_layers", "friction",
-                "shackle_damping")
+                "e_released", "damping", "bond_damping", "contact", "contact_layers", "ground",
+                "friction", "shackle_damping")
 
 
 def read_table(workdir):
@@ -69,6 +69,7 @@ def energy_budget(t):
         "bond_damping": change("w_bond_damping"),
         "contact": -(change("w_contact_block") + change("w_contact_net")),
         "contact_layers": -change("w_contact_pair"),
+        "ground": -change("w_ground"),             # stored in and dissipated by the ground contacts
         "friction": change("w_friction"),
         "shackle_damping": change("w_shackle_damping"),
     }
@@ -79,7 +80,7 @@ def energy_budget(t):
 
 def momentum_balance(t, block_mass, fence_mass, g):
     """Change of the momentum of block and fence against the impulses of the support reactions
-    (window means x window length), of gravity and of the damping; the gap relative to the
+    and of the ground (window means x window length), of gravity and of the damping; the gap relative to the
     block's initial momentum, per row and component."""
     p_block = block_mass * np.column_stack([t["vx"], t["vy"], t["vz"]])
     p_net = np.column_stack([t["px_net"], t["py_net"], t["pz_net"]])
@@ -91,5 +92,8 @@ def momentum_balance(t, block_mass, fence_mass, g):
     j_grav = np.zeros_like(dp)
     j_grav[:, 2] = -(block_mass + fence_mass) * g * (t["time"] - t["time"][0])
     j_damp = np.column_stack([t["jx_damp"], t["jy_damp"], t["jz_damp"]])
-    gap = dp - (j_react + j_grav + (j_damp - j_damp[0]))
+    # the ground pushes the nodes with minus the nodes' force on it
+    j_ground = -np.cumsum(np.column_stack([t["ground_x"], t["ground_y"], t["ground_z"]])
+                          * window[:, None], axis=0)
+    gap = dp - (j_react + j_grav + j_ground + (j_damp - j_damp[0]))
     return gap / float(np.linalg.norm(p_block[0]))

@@ -5,8 +5,8 @@ gap is the links' slack length), leaned 10 degrees downslope, the top rope clamp
 heads (doc/wirenet-gen.md: without the lean or the clamps it does not come to rest). It hangs
 under gravity with local damping for 1 s. Then:
 - the kinetic energy is below 1e-4 of the weight times 1 m;
-- the supports (anchors and post bases, fix wirenet/hold each) carry the weight and the
-  horizontal reactions cancel, to the damping force of the net's last creep along its ropes
+- the supports (anchors and post bases, fix wirenet/hold each) and the ground under the bottom
+  rope carry the weight and the horizontal reactions cancel, to the damping force of the net's last creep along its ropes
   (some tens of shackles still slide at the friction limit after 1 s: about 2 % of the weight
   in y, 0.6 % in z, in 0.1 s window means);
 - no wire tears.
@@ -14,7 +14,8 @@ A 100 kg block (the truncated cube, 0.35 m) then hits the middle of the module a
 against the fence normal (include/fence_impact.in), and for 0.3 s:
 - the energy budget (block, fence, bonds, wire and brake plastic work, shackle springs,
   friction, damping, contacts) closes within 1e-3 of the block's energy;
-- the momentum of block and fence changes by the impulse of the supports, gravity and damping,
+- the momentum of block and fence changes by the impulse of the supports, the ground, gravity
+  and damping,
   within 1e-3 of the block's momentum;
 - the fence stops the block (its velocity along the normal turns), the terms of the budget that
   this fence must use are active (plastic work, shackle friction, damping), and the per-anchor
@@ -95,7 +96,10 @@ def test_the_supports_carry_the_weight_at_rest(hung):
     weight = meta["total_mass"] * 9.81
     assert last["weight"] == pytest.approx(weight, rel=1e-9)
     assert last["ke"] < 1e-4 * weight * 1.0                  # at rest (J against N x 1 m)
-    assert last["rz"] == pytest.approx(weight, rel=0.01)
+    # the bottom rope lies on the ground (z = 0, the plane at minus its radius): the ground
+    # carries part of the weight, the supports the rest
+    assert last["gz"] > 0.0
+    assert last["rz"] + last["gz"] == pytest.approx(weight, rel=0.01)
     assert abs(last["rx"]) < 0.002 * weight and abs(last["ry"]) < 0.03 * weight
     assert last["broken"] == 0
 

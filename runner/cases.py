@@ -215,7 +215,8 @@ class FenceCase(CaseRunner):
             height=c["fence.height"], net=c["panel.net"], post_tilt=c["fence.post_tilt"],
             head_guides=c["fence.head_guides"], mass=c["fence.block_mass"],
             side=c["fence.block_side"], speed=c["fence.speed"], duration=c["fence.duration"],
-            settle_time=c["fence.settle_time"], dt=c["fence.dt"], alpha=c["damping.local"],
+            settle_time=c["fence.settle_time"], rest_time=c["fence.rest_time"],
+            impacts=c["fence.impacts"], dt=c["fence.dt"], alpha=c["damping.local"],
             bond_zeta=c["damping.bond"], gravity=c["gravity"], materials=materials,
             gen_options=generator_options(c), **output_options(c))
         return dict(facts, bending_source=source)

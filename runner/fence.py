@@ -45,6 +45,11 @@ BOND_ZETA = 0.0
 # the step on 4 g hex nodes; a wire's breaking force (~3 kN) overlaps it by ~0.3 mm, against
 # node radii of 5 mm (doc/fence.md)
 CONTACT = dict(kn=1e7, ks=1e6)
+# After an impact the block and the fence come to rest with the settling's damping, for at most
+# REST_TIME, until their kinetic energy is below REST_KE of the block's (the guideline measures
+# the residual height after the block rests; 1e-5 of 500 kJ is 5 J, the block at 8 cm/s)
+REST_TIME = 1.0
+REST_KE = 1e-5
 DT_SAFETY = 0.5          # of the smaller of the bond style's estimate and the contact limit
 GAP = 0.005              # block to the foremost net node at release [m]
 G = 9.81
@@ -70,12 +75,18 @@ class Setup:
 
     def __init__(self, workdir, modules=3, spacing=10.0, height=5.0, net="compound",
                  post_tilt=10.0, head_guides="clamp", mass=BLOCK["mass"], side=BLOCK["side"],
-                 speed=BLOCK["speed"], duration=0.8, settle_time=1.0, dt=None, alpha=ALPHA,
+                 speed=BLOCK["speed"], duration=0.8, settle_time=1.0, rest_time=REST_TIME,
+                 impacts=1, dt=None, alpha=ALPHA,
                  bond_zeta=BOND_ZETA, gravity=G, materials=None, row_time=2e-3,
                  frames=40, gen_options=(), np_=1):
         if not (mass > 0 and side > 0 and speed > 0):
             raise PostprocessError(f"fence: block mass, side and speed must be > 0 (got {mass}, "
                                    f"{side}, {speed})")
+        if impacts not in (1, 2):
+            raise PostprocessError(f"fence: impacts must be 1 or 2 (got {impacts})")
+        if not rest_time >= 0:
+            raise PostprocessError(f"fence: rest_time must be >= 0 (got {rest_time})")
+        self.impacts = int(impacts)
         os.makedirs(workdir, exist_ok=True)
         self.workdir, self.materials, self.g = workdir, dict(materials or {}), float(gravity)
         self.mass, self.side, self.speed, self.alpha = float(mass), float(side), float(speed), alpha
@@ -110,7 +121,13 @@ class Setup:
         self.steps = int(math.ceil(self.duration / self.dt))
         self.every = max(int(round(row_time / self.dt)), 1)
         self.relax_steps = int(math.ceil(self.settle_time / self.dt / self.every)) * self.every
+        self.rest_time = float(rest_time)
+        self.rest_steps = int(math.ceil(self.rest_time / self.dt / self.every)) * self.every
         self.frame_every = max(int(math.ceil(self.steps / int(frames))), 1)
+
+    @property
+    def energy(self):
+        return 0.5 * self.mass * self.speed ** 2
 
     def _base_variables(self):
         section = self.meta["posts"]["section"]
@@ -148,7 +165,8 @@ class Setup:
                  ixx=repr(i[0, 0]), iyy=repr(i[1, 1]), izz=repr(i[2, 2]), ixy=repr(i[0, 1]),
                  ixz=repr(i[0, 2]), iyz=repr(i[1, 2]), quat=" ".join(map(repr, self.quat)),
                  block_half=repr(self.side / 2), gap=GAP, foot_r=repr(max(1.0, self.side)),
-                 node_r=repr(self.node_r))
+                 node_r=repr(self.node_r), impacts=self.impacts, rest_steps=self.rest_steps,
+                 rest_chunk=self.every, rest_ke=repr(REST_KE * self.energy))
         if self.bond_zeta:
             v["bond_zeta"] = repr(self.bond_zeta)
         return v
@@ -186,8 +204,21 @@ def residual_height(setup, nodes_frame, data):
     return float(np.min(pos[top, 2] - zb))
 
 
+def read_rest(workdir):
+    """The rest after an impact (include/fence_rest.in), or None without one: the state at rest
+    (rest.dump: ids, positions) and the kinetic energy's last row of rest.csv (time, ke)."""
+    dump = os.path.join(workdir, "rest.dump")
+    if not os.path.exists(dump):
+        return None
+    rows = np.atleast_2d(np.loadtxt(os.path.join(workdir, "rest.csv"), delimiter=",",
+                                    skiprows=1, ndmin=2))
+    if rows.size == 0:
+        raise PostprocessError(f"{workdir}/rest.csv: no rows")
+    return dict(nodes=last_nodes(dump), time=float(rows[-1, 0]), ke=float(rows[-1, 1]))
+
+
 def last_nodes(path):
-    """(ids, positions) of the last frame of frames/nodes.dump (id type x y z)."""
+    """(ids, positions) of the last frame of a custom dump (id type x y z)."""
     frame = None
     for frame in dumps.iter_frames(path):
         pass
@@ -261,8 +292,10 @@ def write_outputs(setup, case_dir, workdir, t):
         by_family[r["family"]] = by_family.get(r["family"], 0) + 1
 
     data = read_data(setup.data_path)
-    height = residual_height(setup, last_nodes(os.path.join(workdir, "frames", "nodes.dump")),
-                                data)
+    end_of_impact = residual_height(
+        setup, last_nodes(os.path.join(workdir, "frames", "nodes.dump")), data)
+    rest = read_rest(workdir)
+    height = residual_height(setup, rest["nodes"], data) if rest else end_of_impact
     bodyframes.write_body_frames(workdir, setup.block_path)
     vtu.write_case_series(case_dir, workdir, setup.data_path, setup.dt)
     touched = np.nonzero(t["force"] > 0)[0]
@@ -273,6 +306,11 @@ def write_outputs(setup, case_dir, workdir, t):
         time_of_braking_distance=float(time_[int(np.argmax(travel))]),
         residual_height=height, nominal_height=float(setup.meta["fence"]["height"]),
         residual_height_ratio=height / float(setup.meta["fence"]["height"]),
+        residual_height_at="rest" if rest else "end of impact",
+        residual_height_end_of_impact=end_of_impact,
+        rest=None if rest is None else dict(
+            time=rest["time"] - float(t["time"][-1]), kinetic_energy=rest["ke"],
+            limit=REST_KE * setup.energy, reached=bool(rest["ke"] < REST_KE * setup.energy)),
         final_block_speed=float(speed[-1]),
         support_peaks=peaks,
         rope_peaks={f: float(np.max(s)) for f, s in peaks_of.items()},
@@ -294,15 +332,20 @@ def run_case(case_dir, np_=1, **setup_options):
     wall = liggghts.run(liggghts.INPUTS / "fence.in", workdir, setup.variables(), np=np_,
                         total_steps=setup.steps, label="fence", dt=setup.dt,
                         phase_marker="impact: block released")
-    table = fence.read_table(workdir)
-    facts = write_outputs(setup, case_dir, workdir, table)
+    facts = write_outputs(setup, case_dir, workdir, fence.read_table(workdir))
+    if setup.impacts == 2:
+        second = os.path.join(workdir, "impact_2")
+        second_dir = os.path.join(case_dir, "impact_2")
+        os.makedirs(second_dir, exist_ok=True)
+        facts["second_impact"] = write_outputs(setup, second_dir, second, fence.read_table(second))
     facts.update(fence=setup.meta["fence"], fence_mass=setup.fence_mass, atoms=int(
         setup.meta["counts"]["atoms"]), block=dict(mass=setup.mass, side=setup.side,
                                                   speed=setup.speed, quat=list(setup.quat),
-                                                  energy=0.5 * setup.mass * setup.speed ** 2),
+                                                  energy=setup.energy),
                  gravity=setup.g, damping=setup.alpha, bond_damping=setup.bond_zeta,
                  dt=setup.dt, dt_stable_bonds=setup.dt_bonds, dt_stable_contact=setup.dt_contact,
                  steps=setup.steps, duration=setup.duration, settle_time=setup.settle_time,
+                 rest_time=setup.rest_time, impacts=setup.impacts,
                  relax_steps=setup.relax_steps, run_wall_time=wall,
                  post_wall_time=time.time() - start - wall)
     return facts

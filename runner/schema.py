@@ -237,6 +237,14 @@ KEYS = [
         low=0.0, low_open=True, kind="fence", quick=0.1),
     Key("fence.settle_time", "number", 1.0, "s", "settling under gravity (damped) before the "
         "block is released", "doc/fence.md", low=0.0, low_open=True, kind="fence", quick=0.3),
+    Key("fence.rest_time", "number", fence.REST_TIME, "s", "after each impact, the block and "
+        "the fence come to rest with the settling's damping (the guideline measures the "
+        "residual height then): at most this long, until their kinetic energy is below "
+        f"{fence.REST_KE:g} of the block's; 0: no rest, the residual height at the impact's end",
+        "doc/fence.md", low=0.0, kind="fence", quick=0.1),
+    Key("fence.impacts", "integer", 1, "", "1, or 2: the guideline's SEL test, a second block "
+        "(the same one) on the unrepaired fence after the first block is taken away and the "
+        "fence has come to rest", "EAD 340059-00-0106 (SEL)", low=1, high=2, kind="fence"),
     Key("fence.dt", "number", None, "s", "time step", "doc/fence.md", low=0.0, low_open=True,
         kind="fence", derived="half the smaller of the bond style's stable estimate and the "
         "block contact's limit"),

@@ -59,6 +59,8 @@ def error_of(text):
     ('kind = "fence"\n[fence]\nhead_guides = "glued"\n', "fence.head_guides: must be one of clamp, slide"),
     ('kind = "fence"\n[fence]\nspeed = nan\n', "fence.speed: must be a finite number"),
     ('kind = "fence"\n[fence]\npost_tilt = 75.0\n', "fence.post_tilt: must be <= 40"),
+    ('kind = "fence"\n[fence]\nimpacts = 3\n', "fence.impacts: must be <= 2"),
+    ('kind = "fence"\n[fence]\nrest_time = -1.0\n', "fence.rest_time: must be >= 0"),
     ('kind = "fence"\n[impact]\nmass = 10.0\n', "impact.mass: only for kind 'impact'"),
     ('kind = "punch"\n[fence]\nspeed = 10.0\n', "fence.speed: only for kind 'fence'"),
     ('title = "x"\n', "kind: missing"),

@@ -40,6 +40,10 @@ DT, STEPS, EVERY = 4e-6, 250000, 25000
 # penalty, doc/fence.md), local damping 0.1 during the impact
 BLOCK = dict(side=0.35, mass=100.0, speed=5.0)
 IMPACT_STEPS, IMPACT_EVERY = 75000, 2500
+# the SEL test: after the impact the block and the fence come to rest (at most 0.2 s, until the
+# kinetic energy is below 1e-4 of the block's), the block is taken away, the fence comes to rest
+# again, and a second block hits it
+REST_STEPS, REST_KE = 50000, 1e-4 * 0.5 * BLOCK["mass"] * BLOCK["speed"] ** 2
 
 
 def generate(folder):
@@ -67,15 +71,16 @@ def block(folder, meta):
                 kn=1e7, ks=1e6, alpha=0.1)
 
 
-def settle(folder, np=1, extra=(), impact=True):
+def settle(folder, np=1, impacts=1):
     prefix, meta = generate(folder)
     section = meta["posts"]["section"]
     var = dict(inc=lmp.ROOT / "inputs" / "include", data=f"{prefix}.data", shackles=f"{prefix}.shackles",
                support_d=meta["ropes"]["support"]["diameter"], upslope_d=meta["ropes"]["upslope"]["diameter"],
                post_A=section["A"], post_Iy=section["Iy"], post_Iz=section["Iz"], post_J=section["J"],
                ghost=2.5 * meta["max_bond_length"], dt=DT, relax_steps=STEPS, every=EVERY, out=folder)
-    if impact:
-        var.update(block(folder, meta), every=IMPACT_EVERY, relax_steps=STEPS // IMPACT_EVERY * IMPACT_EVERY)
+    var.update(block(folder, meta), every=IMPACT_EVERY, relax_steps=STEPS // IMPACT_EVERY * IMPACT_EVERY)
+    if impacts == 2:
+        var.update(impacts=2, rest_steps=REST_STEPS, rest_chunk=IMPACT_EVERY, rest_ke=REST_KE)
     # index variables defined first win over the deck's own defaults, as -var does
     deck = "".join(f"variable {k} index {v}\n" for k, v in var.items())
     deck += (lmp.ROOT / "inputs" / "fence.in").read_text()
@@ -85,14 +90,15 @@ def settle(folder, np=1, extra=(), impact=True):
 @pytest.fixture(scope="module")
 def hung(tmp_path_factory):
     folder = tmp_path_factory.mktemp("fence")
-    meta, out = settle(folder)
+    meta, out = settle(folder, impacts=2)
     meta["_folder"] = str(folder)
     return meta, out
 
 
 def test_the_supports_carry_the_weight_at_rest(hung):
     meta, out = hung
-    last = [row for row in lmp.thermo_rows(out) if "weight" in row][-1]   # the settling's
+    settling = out[:out.index("fence settled")]
+    last = [row for row in lmp.thermo_rows(settling) if "weight" in row][-1]
     weight = meta["total_mass"] * 9.81
     assert last["weight"] == pytest.approx(weight, rel=1e-9)
     assert last["ke"] < 1e-4 * weight * 1.0                  # at rest (J against N x 1 m)
@@ -186,3 +192,61 @@ def test_the_anchor_rows_add_up_and_mirror(impact):
         a, b = forces[:, list(ids).index(i)], forces[:, list(ids).index(j)]
         assert np.max(np.abs(a[:, 0] + b[:, 0])) < 0.01 * peak
         assert np.max(np.abs(a[:, 1:] - b[:, 1:])) < 0.01 * peak
+
+
+# ---- SEL: a second impact on the unrepaired fence ------------------------------------------
+
+@pytest.fixture(scope="module")
+def second(impact):
+    meta, first, folder = impact
+    return meta, first, fence.read_table(folder / "impact_2"), folder
+
+
+def rest_rows(path):
+    return np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+
+
+def test_the_second_impact_balances(second):
+    meta, _, t, _ = second
+    terms, total, e0, error = fence.energy_budget(t)
+    # the block's energy, plus what the unrepaired fence holds and its motion at release
+    assert e0 >= 0.5 * BLOCK["mass"] * BLOCK["speed"] ** 2
+    assert np.max(np.abs(error)) < 1e-3
+    gap = fence.momentum_balance(t, BLOCK["mass"], meta["total_mass"], 9.81)
+    assert np.max(np.abs(gap)) < 1e-3
+
+
+def read_state(path):
+    """(ids, types, positions) of a write_dump custom file (id type x y z)."""
+    lines = pathlib.Path(path).read_text().splitlines()
+    rows = np.array([[float(v) for v in l.split()] for l in lines[9:9 + int(lines[3])]])
+    return rows[:, 0].astype(int), rows[:, 1].astype(int), rows[:, 2:5]
+
+
+def test_the_second_block_meets_the_fence_as_the_first_left_it(second):
+    """No repair: the wires' plastic work (a running sum in fix wirenet/bonds) carries on from
+    the first impact, and the second block is released gap + node radius + half its side in
+    front of the foremost net node near the target as the net lies after the rests (the state
+    include/fence_rest.in wrote), not as it hung before the first impact."""
+    meta, first, t, folder = second
+    assert t["w_plastic"][0] >= first["w_plastic"][-1] - 1e-9 * abs(first["w_plastic"][-1])
+    assert t["w_plastic"][0] > 0
+    ids, types, pos = read_state(folder / "impact_2" / "unloaded.dump")
+    assert len(ids) == meta["counts"]["atoms"]
+    target, n = np.asarray(meta["impact_target"]), np.asarray(meta["normal"])
+    foot = (types <= 8) & (np.hypot(pos[:, 0] - target[0], pos[:, 2] - target[2]) < 0.5)
+    ahead = np.max((pos[foot] - target) @ n) + 0.0054 + 0.005 + BLOCK["side"] / 2
+    released = np.array([t["x"][0], t["y"][0], t["z"][0]])
+    assert np.linalg.norm(released - (target + ahead * n)) < 1e-6
+    before = np.array([first["x"][0], first["y"][0], first["z"][0]])
+    assert np.linalg.norm(released - before) > 1e-3           # the net has moved
+
+
+def test_the_block_comes_to_rest_in_the_fence(second):
+    """The rest after the first impact (include/fence_rest.in, the settling's damping) takes
+    the motion the impact left down by more than 10x (a block that bounced off does not count:
+    it has no ground to land on)."""
+    _, _, _, folder = second
+    rows = np.loadtxt(folder / "rest.csv", delimiter=",", skiprows=1, ndmin=2)
+    assert rows.shape[0] == REST_STEPS // IMPACT_EVERY or rows[-1, 1] < REST_KE
+    assert rows[-1, 1] < 0.1 * rows[0, 1]

@@ -133,3 +133,37 @@ def test_deck_table_reader_names_the_file(tmp_path):
                                         ",".join("0" for _ in post_fence.COLUMNS) + "\n")
     with pytest.raises(PostprocessError, match="fence.csv: fewer than two rows"):
         post_fence.read_table(tmp_path)
+
+
+@pytest.fixture(scope="module")
+def sel(tmp_path_factory):
+    """The SEL case file as shipped, quick, with the quick fence's block on one module of the
+    hexagonal net (the cheapest net)."""
+    out = tmp_path_factory.mktemp("fence_sel")
+    env = dict(os.environ, WIRENET_SETUP="skip", WIRENET_BUILD=str(lmp.BUILD))
+    p = subprocess.run([str(DRIVER), "run", "fence_sel", "--quick", "--set", "fence.modules=1",
+                        "--set", "fence.block_mass=100", "--set", "fence.block_side=0.35",
+                        "--set", "panel.net=hex", "--out", str(out)], capture_output=True, text=True, env=env, timeout=1800)
+    assert p.returncode == 0, p.stderr[-2000:] + p.stdout[-2000:]
+    return out
+
+
+def test_sel_reports_both_impacts(sel):
+    """fence.impacts = 2: the second impact on the unrepaired fence has its own outputs and
+    facts, closes its own budget and momentum balance, and has its own row in the report; the
+    residual heights are measured after the rests."""
+    m = case_json(sel, "fence_sel")
+    assert m["status"] == "ok" and m["impacts"] == 2
+    second = m["second_impact"]
+    for facts in (m, second):
+        assert facts["energy"]["closure_error"] < 1e-3
+        assert facts["momentum"]["error"] < 1e-3
+        assert facts["residual_height_at"] == "rest"
+        # from the impact's last row; the rest runs in pieces of one row (fence.row_time 2 ms)
+        assert 0 < facts["rest"]["time"] <= m["rest_time"] + 2 * 2e-3 * (1 + 1e-3)
+        assert 0.05 < facts["braking_distance"] < m["fence"]["height"]
+    for name in ("block.csv", "energy.csv", "supports.csv", "ropes.csv", "brakes.csv",
+                 "ruptures.csv", "impact_2.pvd"):
+        assert (sel / "fence_sel" / "impact_2" / name).is_file(), name
+    report = (sel / "report.md").read_text()
+    assert "| fence_sel | hex |" in report and "| fence_sel, 2nd impact | hex |" in report

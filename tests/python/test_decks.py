@@ -115,3 +115,31 @@ def test_no_six_lines_repeated_between_runner_modules():
         for b in modules[i + 1:]:
             repeated += [f"{a.name}:{line} also in {b.name}" for line in shared_runs(a, b)]
     assert not repeated, repeated
+
+
+def _contact_tables(n):
+    """{fix id: (property, [values])} of include/contact_tables_N.in (continuation lines
+    joined)."""
+    text = (lmp.ROOT / "inputs" / "include" / f"contact_tables_{n}.in").read_text()
+    joined = text.replace("&\n", " ")
+    tables = {}
+    for line in joined.splitlines():
+        words = line.split()
+        if words[:1] == ["fix"]:
+            assert words[3:6] == ["property/global", words[4], "peratomtypepair"] and \
+                int(words[6]) == n, line[:80]
+            tables[words[1]] = (words[4], words[7:])
+    return tables
+
+
+def test_contact_tables_agree():
+    """The fence's 14-type contact tables hold the same properties, each with one value for all
+    of its n^2 type pairs, as the panels' 8-type tables (LIGGGHTS wants exactly n^2 values; a
+    table edited in one file only would give a fence other contacts than a panel)."""
+    eight, fourteen = _contact_tables(8), _contact_tables(14)
+    assert eight.keys() == fourteen.keys() and len(eight) == 5
+    for fix, (prop, values) in eight.items():
+        prop14, values14 = fourteen[fix]
+        assert prop14 == prop
+        assert len(values) == 8 * 8 and len(values14) == 14 * 14, fix
+        assert len(set(values)) == 1 and set(values14) == set(values), fix

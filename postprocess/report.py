@@ -119,6 +119,7 @@ def fence_summary(meta):
     second = meta.get("second_impact")
     return {"net": fence.get("net"), "block_energy": (meta.get("block") or {}).get("energy"),
             "braking_distance": meta.get("braking_distance"),
+            "block_stopped": meta.get("block_stopped"),
             "residual_height_ratio": meta.get("residual_height_ratio"),
             "residual_height_at": meta.get("residual_height_at", "end of impact"),
             "second": dict(fence_summary(second), net=fence.get("net"),
@@ -136,7 +137,9 @@ def fence_summary(meta):
 
 FENCE_NOTE = (
     "EAD 340059-00-0106 results of each fence case (runner/fence.py, doc/fence.md): braking "
-    "distance = the block's largest travel along the fence normal after first touch; residual "
+    "distance = the block's largest travel along the fence normal after first touch (block "
+    "stopped: its velocity along the normal turned; a block that flies over or through the "
+    "fence never turns, and its braking distance is how far it flew); residual "
     "height = least vertical distance between top and bottom support rope over the middle module "
     "after the block and the fence have come to rest (fence.rest_time; marked 'end' where it "
     "was measured at the end of the impact), over the nominal height (the guideline's "
@@ -586,11 +589,12 @@ def markdown(directory, summaries, claims, missing, figures, claims_bond=(), dis
     fences = {n: s["fence"] for n, s in summaries.items() if s.get("fence")}
     if fences:
         lines += _section("Fence cases (EAD 340059-00-0106)", FENCE_NOTE)
-        lines += _table(["case", "net", "block energy [kJ]", "braking distance [m]",
+        lines += _table(["case", "net", "block energy [kJ]", "block stopped", "braking distance [m]",
                          "residual height", "final block speed [m/s]", "peak anchor [kN]",
                          "peak post base [kN]", "brake elongation [m]", "energy closure [-]",
                          "momentum error [-]", "broken bonds"],
                         [[n, f["net"], fmt(f["block_energy"] / 1e3 if f["block_energy"] else None),
+                          {True: "yes", False: "no"}.get(f["block_stopped"], "n/a"),
                           fmt(f["braking_distance"]), _percent(f["residual_height_ratio"]) +
                           ("" if f["residual_height_at"] == "rest" else " (end)"),
                           fmt(f["final_block_speed"]),

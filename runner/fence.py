@@ -301,7 +301,11 @@ def write_outputs(setup, case_dir, workdir, t):
     touched = np.nonzero(t["force"] > 0)[0]
     first = int(touched[0]) if touched.size else 0
     speed = np.sqrt(t["vx"] ** 2 + t["vy"] ** 2 + t["vz"] ** 2)
+    # stopped: the block's velocity along the normal turned (it no longer moves into the fence)
+    # at some row; a block that flies over or through the fence never turns
+    along = np.column_stack([t["vx"], t["vy"], t["vz"]]) @ n
     return dict(
+        block_stopped=bool(np.any(along >= 0.0)),
         braking_distance=float(np.max(travel) - travel[first]),
         time_of_braking_distance=float(time_[int(np.argmax(travel))]),
         residual_height=height, nominal_height=float(setup.meta["fence"]["height"]),

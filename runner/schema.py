@@ -234,7 +234,7 @@ KEYS = [
         "normal, at the middle of the middle module", "EAD 340059-00-0106 (>= 25 m/s)",
         low=0.0, low_open=True, kind="fence", quick=5.0),
     Key("fence.duration", "number", 0.8, "s", "simulated time after release", "doc/fence.md",
-        low=0.0, low_open=True, kind="fence", quick=0.1),
+        low=0.0, low_open=True, kind="fence", quick=0.15),
     Key("fence.settle_time", "number", 1.0, "s", "settling under gravity (damped) before the "
         "block is released", "doc/fence.md", low=0.0, low_open=True, kind="fence", quick=0.3),
     Key("fence.rest_time", "number", fence.REST_TIME, "s", "after each impact, the block and "

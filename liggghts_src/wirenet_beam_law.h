@@ -1,5 +1,6 @@
 /* WireNet: parallel-bond beam law (Potyondy & Cundall 2004) for strand ropes, in a corotational
-   form that is exact for rigid rotations. No LIGGGHTS dependency. */
+   form that is exact for rigid rotations and conservative at any bending (forces and moments are
+   the exact gradient of the strain energy). No LIGGGHTS dependency. */
 
 #ifndef WIRENET_BEAM_LAW_H
 #define WIRENET_BEAM_LAW_H
@@ -56,7 +57,7 @@ template <typename T> struct BeamConst {
   T l0;
   T ka;                          // axial stiffness E A / l0
   T kp, km;                      // end moment per own / other end rotation: Kb + Cs, Cs - Kb
-  T kf;                          // 2 Cs: shear force = kf |theta_i + theta_j| / L
+  T kf;                          // 2 Cs = kp + km: shear force kf |theta_i + theta_j| / L at small angles (time step)
   T kt;                          // twist stiffness
   T di[3], dj[3], pi[3], pj[3];  // B_DI, B_DJ, B_PI, B_PJ of the record
   // strength: failure index = max(F_n sa + |M_b| sm, |F_s| ss + |M_t| st), the bond breaks at 1;
@@ -178,6 +179,7 @@ template <typename T> inline V<T> cross(const V<T> &a, const V<T> &b)
   return { a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x };
 }
 template <typename T> inline T dot(const V<T> &a, const V<T> &b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+template <typename T> inline V<T> scale(T a, const V<T> &x) { return { a * x.x, a * x.y, a * x.z }; }
 // a x + b y
 template <typename T> inline V<T> lin(T a, const V<T> &x, T b, const V<T> &y)
 {
@@ -195,13 +197,19 @@ inline bool all(int m) { return m != 0; }
 template <typename M> inline bool all(M m) { return m[0] && m[1]; }
 
 // The exact forms, outside the series: one bond only (a pair falls back to single bonds).
-inline bool exact_bend(double s2, double co, double &f)
+// f = angle / sin(angle) and g = (cos(angle) - f) / sin^2(angle) from s2 = sin^2, co = cos.
+inline bool exact_bend(double s2, double co, double &f, double &g)
 {
   const double s = std::sqrt(s2);
-  f = s < 1e-300 ? 0.0 : std::atan2(s, co) / s;
+  if (s < 1e-300) {  // a half turn (co < 0): the rotation axis is undefined; no moment
+    f = g = 0.0;
+    return true;
+  }
+  f = std::atan2(s, co) / s;
+  g = (co - f) / s2;
   return true;
 }
-inline bool exact_bend(Lanes, Lanes, Lanes &) { return false; }
+inline bool exact_bend(Lanes, Lanes, Lanes &, Lanes &) { return false; }
 inline bool exact_angle(double y, double x, double &phi) { phi = std::atan2(y, x); return true; }
 inline bool exact_angle(Lanes, Lanes, Lanes &) { return false; }
 
@@ -216,19 +224,37 @@ template <typename T> inline bool angle(T y, T x, T &phi)
   return exact_angle(y, x, phi);
 }
 
-// Rotation vector of the smallest rotation taking unit vector a onto unit vector b:
-// angle / sin(angle) = asin(s) / s by its series at small angles, atan2 otherwise.
-template <typename T> inline bool bend(const V<T> &a, const V<T> &b, V<T> &th)
+// One end of a bond bent from the chord direction e to its material direction r (unit vectors):
+// c = e x r, co = e.r, the rotation vector theta = f c of the smallest rotation taking e onto r,
+// f = angle / sin(angle), and g = (co - f) / |c|^2, which the exact derivative of theta needs
+// (series at small angles: asin(s)/s and sqrt(1 - s^2) expanded to s^8, exact otherwise).
+template <typename T> struct Bend { V<T> c; T co, f, g; };
+template <typename T> inline bool bend(const V<T> &e, const V<T> &r, Bend<T> &b)
 {
-  const V<T> c = cross(a, b);
-  const T s2 = dot(c, c), co = dot(a, b);
-  T f;
-  if (all((co > 0.0) & (s2 < SMALL_SIN2)))
-    f = 1.0 + s2 * (1.0 / 6 + s2 * (3.0 / 40 + s2 * (5.0 / 112 + s2 * (35.0 / 1152))));
-  else if (!exact_bend(s2, co, f))
-    return false;
-  th = { f * c.x, f * c.y, f * c.z };
-  return true;
+  b.c = cross(e, r);
+  b.co = dot(e, r);
+  const T s2 = dot(b.c, b.c);
+  if (all((b.co > 0.0) & (s2 < SMALL_SIN2))) {
+    b.f = 1.0 + s2 * (1.0 / 6 + s2 * (3.0 / 40 + s2 * (5.0 / 112 + s2 * (35.0 / 1152))));
+    b.g = -(2.0 / 3) - s2 * (1.0 / 5 + s2 * (3.0 / 28 + s2 * (5.0 / 72 + s2 * (35.0 / 704))));
+    return true;
+  }
+  return exact_bend(s2, b.co, b.f, b.g);
+}
+
+// The bending energy's gradient through one end (moment m = dE/dtheta of that end): adds
+// dE/de to ge and returns the torque -r x dE/dr on the end's node. With theta = f c:
+// dE = G.dc + h d(co), G = f m + g (m.c) c, h = -(m.c), dc = de x r + e x dr, d(co) = r.de + e.dr.
+template <typename T>
+inline V<T> bend_gradient(const V<T> &e, const V<T> &r, const Bend<T> &b, const V<T> &m, V<T> &ge)
+{
+  const T mc = dot(m, b.c);
+  const V<T> G = lin(b.f, m, b.g * mc, b.c);
+  const V<T> rG = cross(r, G);
+  ge = { ge.x + rG.x - mc * r.x, ge.y + rG.y - mc * r.y, ge.z + rG.z - mc * r.z };
+  const T rg = dot(r, G);
+  return { -b.co * G.x + rg * e.x - mc * b.c.x, -b.co * G.y + rg * e.y - mc * b.c.y,
+           -b.co * G.z + rg * e.z - mc * b.c.z };
 }
 
 }  // namespace beam_kernel
@@ -258,60 +284,92 @@ inline __attribute__((always_inline)) bool BeamLaw::kernel(const BeamConst<T> &b
   const T L = root(dot(d, d)), inv_L = 1.0 / L;
   const V<T> e = { d.x * inv_L, d.y * inv_L, d.z * inv_L };
 
+  // The law is the exact gradient of its energy E = ka (L - l0)^2 / 2 + (theta_i.m_i +
+  // theta_j.m_j) / 2 + kt phi^2 / 2 (forces -dE/dx, torques -dE/dphi), so that it conserves
+  // energy at any bending and twist; at small angles it is the linear corotational beam.
   // end rotations relative to the chord
-  V<T> th_i, th_j;
-  if (!bend(e, mul(n.ri, b.di), th_i) || !bend(e, mul(n.rj, b.dj), th_j)) return false;
+  const V<T> ri = mul(n.ri, b.di), rj = mul(n.rj, b.dj);
+  Bend<T> bi, bj;
+  if (!bend(e, ri, bi) || !bend(e, rj, bj)) return false;
+  const V<T> th_i = scale(bi.f, bi.c), th_j = scale(bj.f, bj.c);
   // twist: angle about e between the ends' reference normals projected on the plane normal to
   // e; the projection leaves their triple product with e unchanged and turns their dot product
   // into ni.nj - (e.ni)(e.nj), so the projected vectors are never formed
   const V<T> ni = mul(n.ri, b.pi), nj = mul(n.rj, b.pj);
+  const V<T> nixnj = cross(ni, nj);
+  const T eni = dot(e, ni), enj = dot(e, nj), ninj = dot(ni, nj);
+  const T ty = dot(e, nixnj), tx = ninj - eni * enj;
   T phi;
-  if (!angle(dot(e, cross(ni, nj)), dot(ni, nj) - dot(e, ni) * dot(e, nj), phi)) return false;
+  if (!angle(ty, tx, phi)) return false;
 
-  // bending moments Kb (th_i - th_j) + Cs (th_i + th_j) at both ends, the shear of their balance
+  // bending moments Kb (th_i - th_j) + Cs (th_i + th_j) at both ends
   V<T> m_i = lin(b.kp, th_i, b.km, th_j), m_j = lin(b.kp, th_j, b.km, th_i);
-  const V<T> sum = { th_i.x + th_j.x, th_i.y + th_j.y, th_i.z + th_j.z };
-  V<T> sc;
-  T fs;
-  if constexpr (!SECTION) {
-    sc = cross(sum, e);
-    fs = b.kf * inv_L;
-  } else {
+  V<T> ge = { T{}, T{}, T{} };  // dE/de
+  V<T> tq_i = { T{}, T{}, T{} }, tq_j = tq_i;
+  if constexpr (SECTION) {
     // principal axis y: the two ends' reference normals (the record's `orient`), averaged and
     // made normal to the chord; z = e x y. The rotation vectors are normal to e, so
     // D v = y (y.v) - z (z.v) splits them into the two axes' parts.
     const V<T> a = { ni.x + nj.x, ni.y + nj.y, ni.z + nj.z };
     const T ae = dot(a, e);
-    V<T> y = { a.x - ae * e.x, a.y - ae * e.y, a.z - ae * e.z };
-    const T inv_y = 1.0 / root(dot(y, y));
-    y = { y.x * inv_y, y.y * inv_y, y.z * inv_y };
+    const V<T> u = { a.x - ae * e.x, a.y - ae * e.y, a.z - ae * e.z };
+    const T inv_u = 1.0 / root(dot(u, u));
+    const V<T> y = { u.x * inv_u, u.y * inv_u, u.z * inv_u };
     const V<T> z = cross(e, y);
-    const V<T> di = lin(dot(y, th_i), y, -dot(z, th_i), z);
-    const V<T> dj = lin(dot(y, th_j), y, -dot(z, th_j), z);
+    const T yi = dot(y, th_i), yj = dot(y, th_j);
+    const V<T> di = lin(yi, y, -dot(z, th_i), z);
+    const V<T> dj = lin(yj, y, -dot(z, th_j), z);
     const V<T> ci = lin(s->kpd, di, s->kmd, dj), cj = lin(s->kpd, dj, s->kmd, di);
     m_i = { m_i.x + ci.x, m_i.y + ci.y, m_i.z + ci.z };
     m_j = { m_j.x + cj.x, m_j.y + cj.y, m_j.z + cj.z };
-    const V<T> ds = { di.x + dj.x, di.y + dj.y, di.z + dj.z };
-    sc = cross(lin(b.kf, sum, s->kfd, ds), e);
-    fs = inv_L;
+    // the energy's dependence on y = P a / |P a|: dE/dy = q, its part normal to y over |P a| is
+    // p; dE = p.(dni + dnj) - (e.a) p.de (p is normal to e)
+    const T qi = 2.0 * (s->kpd * yi + s->kmd * yj), qj = 2.0 * (s->kpd * yj + s->kmd * yi);
+    V<T> q = lin(qi, th_i, qj, th_j);
+    const T qy = dot(q, y);
+    const V<T> p = { (q.x - qy * y.x) * inv_u, (q.y - qy * y.y) * inv_u, (q.z - qy * y.z) * inv_u };
+    ge = scale(-ae, p);
+    tq_i = cross(p, ni);
+    tq_j = cross(p, nj);
   }
-  const T axial = b.ka * (L - b.l0), tw = b.kt * phi;
+  const V<T> bi_t = bend_gradient(e, ri, bi, m_i, ge), bj_t = bend_gradient(e, rj, bj, m_j, ge);
+  // twist: dE = tw dphi, dphi = (tx dty - ty dtx) / (tx^2 + ty^2)
+  const T tw = b.kt * phi;
+  {
+    const T w = tw / (tx * tx + ty * ty), wx = w * tx, wy = w * ty;
+    // dE/de, dE/dni, dE/dnj of the twist; torques -n x dE/dn
+    ge = { ge.x + wx * nixnj.x + wy * (enj * ni.x + eni * nj.x), ge.y + wx * nixnj.y + wy * (enj * ni.y + eni * nj.y),
+           ge.z + wx * nixnj.z + wy * (enj * ni.z + eni * nj.z) };
+    const V<T> nixe = cross(ni, e), njxe = cross(nj, e);
+    // ni x dE/dni = wx (nj (ni.e) - e (ni.nj)) - wy (ni x nj - (e.nj) ni x e)
+    tq_i = { tq_i.x - (wx * (eni * nj.x - ninj * e.x) - wy * (nixnj.x - enj * nixe.x)),
+             tq_i.y - (wx * (eni * nj.y - ninj * e.y) - wy * (nixnj.y - enj * nixe.y)),
+             tq_i.z - (wx * (eni * nj.z - ninj * e.z) - wy * (nixnj.z - enj * nixe.z)) };
+    // nj x dE/dnj = wx (e (ni.nj) - ni (e.nj)) - wy (nj x ni - (e.ni) nj x e)
+    tq_j = { tq_j.x - (wx * (ninj * e.x - enj * ni.x) - wy * (-nixnj.x - eni * njxe.x)),
+             tq_j.y - (wx * (ninj * e.y - enj * ni.y) - wy * (-nixnj.y - eni * njxe.y)),
+             tq_j.z - (wx * (ninj * e.z - enj * ni.z) - wy * (-nixnj.z - eni * njxe.z)) };
+  }
+  const T axial = b.ka * (L - b.l0);
+  // force on i: axial e + (dE/de normal to e) / L (de/dx_i = -(I - e e^T) / L)
+  const T gee = dot(ge, e);
+  const V<T> sh = { (ge.x - gee * e.x) * inv_L, (ge.y - gee * e.y) * inv_L, (ge.z - gee * e.z) * inv_L };
 
-  out.force_i[0] = axial * e.x - fs * sc.x;
-  out.force_i[1] = axial * e.y - fs * sc.y;
-  out.force_i[2] = axial * e.z - fs * sc.z;
-  out.torque_i[0] = tw * e.x - m_i.x;
-  out.torque_i[1] = tw * e.y - m_i.y;
-  out.torque_i[2] = tw * e.z - m_i.z;
-  out.torque_j[0] = -tw * e.x - m_j.x;
-  out.torque_j[1] = -tw * e.y - m_j.y;
-  out.torque_j[2] = -tw * e.z - m_j.z;
+  out.force_i[0] = axial * e.x + sh.x;
+  out.force_i[1] = axial * e.y + sh.y;
+  out.force_i[2] = axial * e.z + sh.z;
+  out.torque_i[0] = bi_t.x + tq_i.x;
+  out.torque_i[1] = bi_t.y + tq_i.y;
+  out.torque_i[2] = bi_t.z + tq_i.z;
+  out.torque_j[0] = bj_t.x + tq_j.x;
+  out.torque_j[1] = bj_t.y + tq_j.y;
+  out.torque_j[2] = bj_t.z + tq_j.z;
   out.axial = axial;
   if constexpr (REPORT || STRESS) {
     // parallel-bond stresses: the largest tensile fibre stress F_n/A + |M_b| R/I (compression
     // lowers it) and the largest shear stress |F_s|/A + |M_t| R/J, each over its strength; the
     // bending moment is the larger of the two end moments
-    const T shear = fs * root(dot(sc, sc));
+    const T shear = root(dot(sh, sh));
     const T moment = root(larger(dot(m_i, m_i), dot(m_j, m_j)));
     out.fail = larger(axial * b.sa + moment * b.sm, shear * b.ss + magnitude(tw) * b.st);
     if constexpr (REPORT) {

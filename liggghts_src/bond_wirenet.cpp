@@ -25,7 +25,7 @@ static const char HISTORY_FIX_ID[] = "wirenet_bonds";
 
 BondWirenet::BondWirenet(LAMMPS *lmp) :
   Bond(lmp), nbeam(0), ncircular(0), list_version(-1), history(NULL), any_beam(0), any_strength(0),
-  any_beam_damping(0), any_damping(0), plastic_work(0.0), damping_work(0.0), duplicates_checked(false) {}
+  any_beam_damping(0), any_damping(0), duplicates_checked(false) {}
 
 BondWirenet::~BondWirenet()
 {
@@ -403,7 +403,7 @@ __attribute__((always_inline)) inline void BondWirenet::compute_wire(const WireE
   // Plastic work: only a growing largest elongation dissipates (unloading and reloading follow
   // the elastic line). Work along the envelope (trapezoid) minus the growth of the elastic energy.
   if (h[W_UMAX] > umax0)
-    plastic_work += 0.5 * (fmax0 + h[W_FMAX]) * (h[W_UMAX] - umax0) -
+    plastic_work[e.type] += 0.5 * (fmax0 + h[W_FMAX]) * (h[W_UMAX] - umax0) -
                     0.5 * (h[W_FMAX] * h[W_FMAX] - fmax0 * fmax0) / h[W_KU];
   if (tension == 0.0) return;  // slack or shortened: no force, no damping
   double pull = tension;
@@ -417,7 +417,7 @@ __attribute__((always_inline)) inline void BondWirenet::compute_wire(const WireE
     const double c = 2.0 * zeta * sqrt(e.k.ku * mi * mj / (mi + mj));
     pull = tension + c * vn;
     if (pull < 0.0) pull = 0.0;
-    damping_work += (pull - tension) * vn;  // power dissipated, >= 0
+    damping_power[e.type] += (pull - tension) * vn;  // >= 0
   }
   const double fr = pull / r;
   double **f = atom->f;
@@ -426,6 +426,7 @@ __attribute__((always_inline)) inline void BondWirenet::compute_wire(const WireE
   if (evflag) {
     // recoverable elastic energy of the unloading branch
     const double ebond = eflag ? 0.5 * tension * tension / h[W_KU] : 0.0;
+    elastic_energy[e.type] += ebond;
     ev_tally(e.i, e.j, atom->nlocal, force->newton_bond, ebond, -fr, -dx, -dy, -dz);
   }
 }
@@ -546,6 +547,7 @@ void BondWirenet::compute_beams(int eflag, int q0, int q1)
         const double dx = n.xi[0] - n.xj[0], dy = n.xi[1] - n.xj[1], dz = n.xi[2] - n.xj[2];
         const double r = sqrt(dx * dx + dy * dy + dz * dz);
         ev_tally(i, j, nlocal, newton_bond, eflag ? out.energy : 0.0, -out.axial / r, dx, dy, dz);
+        if (eflag) elastic_energy[atom->bond_type[i][p.m[k]]] += out.energy;
       }
     }
   }
@@ -559,8 +561,10 @@ void BondWirenet::compute(int eflag, int vflag)
   history->take_pair_forces();  // no-op unless fix wirenet/contactwork pair asked for them
 
   double **x = atom->x;
-  plastic_work = 0.0;
-  damping_work = 0.0;
+  const size_t ntypes = (size_t)atom->nbondtypes + 1;
+  plastic_work.assign(ntypes, 0.0);
+  damping_power.assign(ntypes, 0.0);
+  elastic_energy.assign(ntypes, 0.0);
   for (const WireEntry &e : wire_list) {
     if (e.h[FixWirenetBonds::L0] < 0.0) continue;  // broken since the list was built
     const double dx = x[e.j][0] - x[e.i][0];
@@ -583,9 +587,12 @@ void BondWirenet::compute(int eflag, int vflag)
     }
     if (any_beam_damping) damp_beams();
   }
-  if (plastic_work != 0.0) history->add_plastic_work(plastic_work);
-  // the set-up's force evaluation is not a step: nothing is dissipated over it
-  if (damping_work != 0.0 && !update->setupflag) history->add_damping_work(damping_work * update->dt);
+  for (size_t t = 1; t < ntypes; t++) {
+    history->add_tally((int)t, FixWirenetBonds::PLASTIC, plastic_work[t]);
+    // the set-up's force evaluation is not a step: nothing is dissipated over it
+    if (!update->setupflag) history->add_tally((int)t, FixWirenetBonds::DAMPING, damping_power[t] * update->dt);
+  }
+  if (eflag) history->set_elastic_energy(elastic_energy);
   if (update->setupflag) report_timestep();
 }
 
@@ -601,7 +608,7 @@ void BondWirenet::damp_beams()
       const double ca = p.c.ca[k], cs = p.c.cs[k], cb = p.c.cb[k], ct = p.c.ct[k];
       if (ca == 0.0 && cs == 0.0 && cb == 0.0 && ct == 0.0) continue;  // undamped type or broken
       const int i = p.i[k], j = p.j[k];
-      damping_work += BeamLaw::damp(ca, cs, cb, ct, x + 3 * i, x + 3 * j, v + 3 * i, v + 3 * j, w + 3 * i, w + 3 * j,
+      damping_power[atom->bond_type[i][p.m[k]]] += BeamLaw::damp(ca, cs, cb, ct, x + 3 * i, x + 3 * j, v + 3 * i, v + 3 * j, w + 3 * i, w + 3 * j,
                                     f + 3 * i, f + 3 * j, t + 3 * i, t + 3 * j);
     }
   }

@@ -69,8 +69,9 @@ class BondWirenet : public Bond {
   int any_strength;      // a beam type with `strength`
   int any_beam_damping;  // a beam type with `damping` > 0
   int any_damping;       // any type with `damping` > 0
-  double plastic_work;  // plastic work of the wire and brake bonds in this compute() (energy budget)
-  double damping_work;  // energy dissipated by bond damping in this compute()
+  // per bond type, in this compute() (energy budget): plastic work of the wire and brake bonds,
+  // power dissipated by bond damping, elastic energy (with eflag)
+  std::vector<double> plastic_work, damping_power, elastic_energy;
 
   void allocate();
   void set_type(int type, const WireNet::BondTypeSpec &spec);

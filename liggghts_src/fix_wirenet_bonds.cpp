@@ -7,6 +7,7 @@
 
 #include "fix_wirenet_bonds.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <unordered_map>
@@ -27,9 +28,8 @@ static const int RUPTURE_COLS = 8;
 FixWirenetBonds::FixWirenetBonds(LAMMPS *lmp, int narg, char **arg) :
   Fix(lmp, narg, arg),
   hist(NULL), quat(NULL), rot(NULL), orient_flag(0), vel_flag(0), version(0), ghost_extent(0.0),
-  nbroken_total(0), nbroken_pending(0), pair_wanted(false), maxlocal(0)
+  nbroken_total(0), nbroken_pending(0), elastic_step(-1), pair_wanted(false), maxlocal(0)
 {
-  for (int k = 0; k < NENERGY; k++) energy_mine[k] = 0.0;
   if (narg != 3) error->all(FLERR, "fix wirenet/bonds takes no arguments (it is created by bond_style wirenet)");
   if (!atom->molecular) error->all(FLERR, "fix wirenet/bonds needs an atom style with bonds");
 
@@ -44,8 +44,15 @@ FixWirenetBonds::FixWirenetBonds(LAMMPS *lmp, int narg, char **arg) :
   // global vector: broken bonds, energy released at ruptures, plastic work of the wire bonds,
   // energy dissipated by bond damping
   vector_flag = 1;
-  size_vector = 1 + NENERGY;
+  size_vector = 1 + NTALLY;
   extvector = 0;
+  // global array, a row per bond type: elastic energy, then the three tallies
+  array_flag = 1;
+  size_array_rows = atom->nbondtypes;
+  size_array_cols = 1 + NTALLY;
+  extarray = 0;
+  tally_mine.assign((size_t)(atom->nbondtypes + 1) * NTALLY, 0.0);
+  elastic_mine.assign((size_t)atom->nbondtypes + 1, 0.0);
   global_freq = 1;
   local_flag = 1;
   // The rupture rows are current at every step. Fix() leaves both frequencies uninitialised;
@@ -180,33 +187,53 @@ void FixWirenetBonds::unpack_comm(int n, int first, double *buf)
   }
 }
 
-// Layout: { -(number of values that follow), broken bonds, energies... }. Files written before
-// the damping tally hold { broken bonds (>= 0), released energy, plastic work }: the sign of the
-// first value tells them apart (restart() is not told the size of its state).
+// Layout: { -(number of values that follow), broken bonds, the three tallies' sums, number of
+// bond types, the tallies of rows 0..types }. Files written before the per-type tallies end
+// after the sums (and before the damping tally, files hold { broken bonds (>= 0), released
+// energy, plastic work }): the sign of the first value and the count tell them apart
+// (restart() is not told the size of its state).
 void FixWirenetBonds::write_restart(FILE *fp)
 {
-  double energy_all[NENERGY];
-  MPI_Reduce(energy_mine, energy_all, NENERGY, MPI_DOUBLE, MPI_SUM, 0, world);
+  const int ntypes = atom->nbondtypes;
+  std::vector<double> all(tally_mine.size());
+  MPI_Reduce(tally_mine.data(), all.data(), (int)all.size(), MPI_DOUBLE, MPI_SUM, 0, world);
   if (comm->me != 0) return;
-  double list[2 + NENERGY] = { -(double)(1 + NENERGY), (double)nbroken_total };
-  for (int k = 0; k < NENERGY; k++) list[2 + k] = energy_all[k];
+  std::vector<double> list = { 0.0, (double)nbroken_total };
+  for (int k = 0; k < NTALLY; k++) {
+    double sum = 0.0;
+    for (int t = 0; t <= ntypes; t++) sum += all[(size_t)t * NTALLY + k];
+    list.push_back(sum);
+  }
+  list.push_back(ntypes);
+  list.insert(list.end(), all.begin(), all.end());
+  list[0] = -(double)(list.size() - 1);
   // Modify::read_restart reads this many BYTES of state (not values).
-  int size = (int)sizeof(list);
+  int size = (int)(sizeof(double) * list.size());
   fwrite(&size, sizeof(int), 1, fp);
-  fwrite(list, sizeof(double), 2 + NENERGY, fp);
+  fwrite(list.data(), sizeof(double), list.size(), fp);
 }
 
-// The energy totals go to rank 0's share; the other ranks start from zero.
+// The tallies go to rank 0's share; the other ranks start from zero. An older file's sums go
+// to row 0 (no type).
 void FixWirenetBonds::restart(char *buf)
 {
   const double *list = (const double *)buf;
-  int n = 3;  // old layout: count, released energy, plastic work
+  int n = 3;  // oldest layout: count, released energy, plastic work
   if (list[0] < 0.0) {
     n = (int)(-list[0]);
     list++;
   }
   nbroken_total = (bigint)list[0];
-  for (int k = 0; k < NENERGY; k++) energy_mine[k] = (comm->me == 0 && 1 + k < n) ? list[1 + k] : 0.0;
+  std::fill(tally_mine.begin(), tally_mine.end(), 0.0);
+  if (comm->me != 0) return;
+  const int ntypes = atom->nbondtypes;
+  if (n > 1 + NTALLY) {
+    if ((int)list[1 + NTALLY] != ntypes || n != 2 + NTALLY + (ntypes + 1) * NTALLY)
+      error->one(FLERR, "bond_style wirenet: the restart file's energy tallies are for another number of bond types");
+    for (size_t k = 0; k < tally_mine.size(); k++) tally_mine[k] = list[2 + NTALLY + k];
+  } else {
+    for (int k = 0; k < NTALLY; k++) tally_mine[k] = 1 + k < n ? list[1 + k] : 0.0;
+  }
 }
 
 /* ------------------------------------------------------------------------------------------- */
@@ -216,7 +243,7 @@ void FixWirenetBonds::restart(char *buf)
 void FixWirenetBonds::break_bond(int i, int m, const double *mid, double elongation, double energy)
 {
   hist[i][m * NHIST + L0] = -1.0;
-  energy_mine[0] += energy;
+  add_tally(atom->bond_type[i][m], RELEASED, energy);
   nbroken_pending++;
   const int n = size_local_rows;
   if (n == maxlocal) {
@@ -291,11 +318,41 @@ void FixWirenetBonds::take_pair_forces()
     }
 }
 
+double FixWirenetBonds::tally_sum(int k) const
+{
+  double mine = 0.0, all = 0.0;
+  for (size_t t = 0; t < elastic_mine.size(); t++) mine += tally_mine[t * NTALLY + k];
+  MPI_Allreduce(&mine, &all, 1, MPI_DOUBLE, MPI_SUM, world);
+  return all;
+}
+
 double FixWirenetBonds::compute_vector(int n)
 {
   if (n == 0) return compute_scalar();
-  double all = 0.0;
-  MPI_Allreduce(&energy_mine[n - 1], &all, 1, MPI_DOUBLE, MPI_SUM, world);
+  return tally_sum(n - 1);
+}
+
+void FixWirenetBonds::set_elastic_energy(const std::vector<double> &e)
+{
+  elastic_mine.assign(e.begin(), e.end());
+  elastic_step = update->ntimestep;
+}
+
+// Row i: bond type i + 1. The elastic energy exists only for a step whose forces were computed
+// with energies (LIGGGHTS does so when a compute pe is due at that step).
+double FixWirenetBonds::compute_array(int i, int j)
+{
+  const int type = i + 1;
+  double mine, all = 0.0;
+  if (j == 0) {
+    if (elastic_step != update->ntimestep)
+      error->all(FLERR, "fix wirenet/bonds: the elastic energy per bond type (column 1) is known only at steps "
+                        "where the bond energy is computed: output a compute pe bond at the same steps");
+    mine = elastic_mine[type];
+  } else {
+    mine = tally_mine[(size_t)type * NTALLY + (j - 1)];
+  }
+  MPI_Allreduce(&mine, &all, 1, MPI_DOUBLE, MPI_SUM, world);
   return all;
 }
 

@@ -36,6 +36,7 @@ class FixWirenetBonds : public Fix {
   void post_run();
   double compute_scalar();
   double compute_vector(int);
+  double compute_array(int, int);
   double extend_cut_ghost();
 
   void grow_arrays(int);
@@ -72,10 +73,14 @@ class FixWirenetBonds : public Fix {
   // flag the bond (i, slot m) as broken; it leaves the atom's bond list at the next exchange;
   // energy = the elastic energy the bond stored when it broke (released)
   void break_bond(int i, int m, const double *mid, double elongation, double energy = 0.0);
-  // plastic work dissipated by this rank's wire bonds (energy budget, global vector [3])
-  void add_plastic_work(double w) { energy_mine[1] += w; }
-  // energy dissipated by this rank's bond damping (global vector [4])
-  void add_damping_work(double w) { energy_mine[2] += w; }
+  // Energy tallies of this rank's bonds, per bond type (global array columns 2-4; the global
+  // vector [2-4] holds their sums): elastic energy released at ruptures, plastic work of the wire
+  // and brake bonds, energy dissipated by bond damping.
+  enum Tally { RELEASED = 0, PLASTIC = 1, DAMPING = 2, NTALLY = 3 };
+  void add_tally(int type, Tally k, double w) { tally_mine[(size_t)type * NTALLY + k] += w; }
+  // The elastic energy of this rank's bonds of each type (e[type], type 1..nbondtypes) at the
+  // current step (global array column 1): set by the bond style whenever it tallies energies.
+  void set_elastic_energy(const std::vector<double> &e);
   // Force and torque on the local atoms when the bond style starts its compute(), i.e. the pair
   // forces (fix wirenet/contactwork pair); taken only once someone asked for them.
   void request_pair_forces() { pair_wanted = true; }
@@ -98,11 +103,13 @@ class FixWirenetBonds : public Fix {
   double ghost_extent;
   bigint nbroken_total;  // all ranks, since the bonds were created (restarted)
   int nbroken_pending;   // flagged on this rank, not yet removed from the bond lists
-  // this rank's tallies since the bonds were created (rank 0 also holds a restart's totals):
-  // [0] elastic energy released at ruptures, [1] plastic work of the wire bonds, [2] energy
-  // dissipated by bond damping
-  static const int NENERGY = 3;
-  double energy_mine[NENERGY];
+  // this rank's tallies since the bonds were created (rank 0 also holds a restart's totals),
+  // [type * NTALLY + Tally]; row 0 holds the totals of a restart file written before the tallies
+  // were kept per type (counted in the sums, in no type's row)
+  std::vector<double> tally_mine;
+  std::vector<double> elastic_mine;  // [type]: elastic energy at step elastic_step
+  bigint elastic_step;
+  double tally_sum(int k) const;
   bool pair_wanted;
   std::vector<double> pair_snap;  // [6 * nlocal]: f and torque
 

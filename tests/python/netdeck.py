@@ -24,6 +24,16 @@ bond_coeff 3 wire diameter 0.0034 curve {SW_CURVE} family selvedge
 bond_coeff 4 wire diameter 0.0027 curve {SW_CURVE} family rope_unused
 """
 
+# thermo columns of the energy tallies per bond type (fix wirenet_bonds' global array, through
+# variables: the fix does not exist before the first run): el_t, rel_t, pl_t, damp_t for the
+# types t = 1..4, the totals rel, pl, damp of its global vector and the bond energy eb
+TALLY_THERMO = "compute eb all pe bond\n" + "".join(
+    f"variable {name}_{t} equal f_wirenet_bonds[{t}][{col}]\n"
+    for t in range(1, 5) for col, name in enumerate(("el", "rel", "pl", "damp"), start=1)) + \
+    "variable rel equal f_wirenet_bonds[2]\nvariable pl equal f_wirenet_bonds[3]\nvariable damp equal f_wirenet_bonds[4]\n"
+TALLY_COLS = " ".join(f"v_{name}_{t}" for t in range(1, 5) for name in ("el", "rel", "pl", "damp")) + \
+    " v_rel v_pl v_damp c_eb"
+
 # columns of compute wirenet/local written by the bond dump
 BOND_COLS = "c_bl[1] c_bl[2] c_bl[3] c_bl[4] c_bl[5] c_bl[6]"
 # columns of the rupture dump (fix wirenet_bonds local array): step atom1 atom2 type x y z elongation
@@ -62,7 +72,7 @@ fix pull right move linear {speed!r} 0 0
 fix integrate free nve/sphere
 {damp}compute bl all wirenet/local
 variable nb equal f_wirenet_bonds
-thermo_style custom step atoms v_nb
+{TALLY_THERMO}thermo_style custom step atoms v_nb {TALLY_COLS}
 thermo_modify format float %.17g
 timestep {dt!r}
 """

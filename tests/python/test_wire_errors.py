@@ -275,3 +275,21 @@ def test_bond_listed_twice(tmp_path, order):
     rc, out = lmp.run_deck_rc(deck(f"bond_style wirenet\nbond_coeff 1 {GOOD}\nrun 0", preamble=pre, data="dup.data"),
                               tmp_path, np=1)
     check_error(rc, out, "the bond between atoms 1 and 2 is listed twice")
+
+
+def test_elastic_energy_per_type_needs_energy_step(tmp_path):
+    """The per-type elastic energy exists only where LIGGGHTS computed bond energies: read at a
+    thermo step of a thermo without a pe compute, it is an error that says what to add."""
+    write_pair(tmp_path / "pair.data")
+    rc, out = lmp.run_deck_rc(deck(f"bond_style wirenet\nbond_coeff 1 {GOOD}\nrun 0\n"
+                                   "variable el equal f_wirenet_bonds[1][1]\n"
+                                   "thermo_style custom step v_el\nthermo 5\nrun 10"), tmp_path)
+    check_error(rc, out, "output a compute pe bond at the same steps")
+
+
+def test_energy_per_type_out_of_range(tmp_path):
+    write_pair(tmp_path / "pair.data")
+    rc, out = lmp.run_deck_rc(deck(f"bond_style wirenet\nbond_coeff 1 {GOOD}\nrun 0\n"
+                                   "variable pl equal f_wirenet_bonds[2][3]\n"
+                                   "thermo_style custom step v_pl\nrun 0"), tmp_path)
+    check_error(rc, out, "out-of-range")

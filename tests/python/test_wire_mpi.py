@@ -82,6 +82,24 @@ def test_one_and_two_ranks_agree(tmp_path):
     n2 = [r["nb"] for r in lmp.thermo_rows(out2)]
     assert n1 == n2 and n1[-1] == len(broken)
 
+    # energy per bond type (fix wirenet_bonds' array): the types add up to the totals at every
+    # row, each type's tallies agree between the decompositions, a type releases energy exactly
+    # when one of its bonds broke, and the unused type 4 has nothing
+    for out, ruptures in ((out1, r1), (out2, r2)):
+        for row in lmp.thermo_rows(out):
+            for name, total in (("el", "eb"), ("rel", "rel"), ("pl", "pl"), ("damp", "damp")):
+                parts = sum(row[f"{name}_{t}"] for t in range(1, 5))
+                assert abs(parts - row[total]) <= 1e-12 * max(abs(row[total]), 1e-9), (name, row)
+                assert row[f"{name}_4"] == 0.0
+            broken_types = set(ruptures[:, 3].astype(int))
+            if row["Step"] == STEPS:
+                assert {t for t in (1, 2, 3) if row[f"rel_{t}"] > 0.0} == broken_types
+                assert row["pl_1"] > 0.0 and row["pl_2"] > 0.0
+    for a, b in zip(lmp.thermo_rows(out1), lmp.thermo_rows(out2)):
+        for name in ("el", "rel", "pl"):
+            for t in (1, 2, 3):
+                assert rel_err(a[f"{name}_{t}"], b[f"{name}_{t}"], 1e-6) < 1e-9, (a["Step"], name, t)
+
     # the decomposition did something: bonds straddle the split plane x = 0 throughout, and nodes
     # crossed it (migrated from rank 0 to rank 1) during the run
     atoms = lmp.dump_atom_frames(wd2 / "atoms.dump")

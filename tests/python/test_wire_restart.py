@@ -33,7 +33,7 @@ fix pull right move linear {SPEED!r} 0 0
 fix integrate free nve/sphere
 compute bl all wirenet/local
 variable nb equal f_wirenet_bonds
-thermo_style custom step atoms v_nb
+{netdeck.TALLY_THERMO}thermo_style custom step atoms v_nb {netdeck.TALLY_COLS}
 thermo_modify format float %.17g
 thermo {EVERY}
 """
@@ -107,6 +107,13 @@ def test_restart_matches_uninterrupted(tmp_path, uninterrupted, coeffs_again):
     # the broken count continues from the file and follows the uninterrupted run
     assert rows2[N]["nb"] == broken_at_restart == ref_rows[N]["nb"]
     assert rows2[2 * N]["nb"] == ref_rows[2 * N]["nb"] > broken_at_restart, "no wire broke after the restart"
+    # the energy tallies of every bond type continue from the file (fix wirenet/bonds' array)
+    for step in (N, 2 * N):
+        for name in netdeck.TALLY_COLS.split():
+            key = name[2:] if name.startswith(("v_", "c_")) else name
+            ref, got = ref_rows[step][key], rows2[step][key]
+            assert abs(got - ref) <= TOL * max(abs(ref), 1e-6), f"step {step}: {key} {got} != {ref}"
+    assert rows2[2 * N]["pl_2"] > rows2[N]["pl_2"] > 0.0 and rows2[2 * N]["rel_2"] > 0.0
 
     ref_bonds = netdeck.bonds_by_step(ref_wd)
     bonds2 = netdeck.bonds_by_step(wd2)

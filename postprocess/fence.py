@@ -28,9 +28,37 @@ def read_table(workdir):
     return read_deck_table(os.path.join(workdir, "fence.csv"), COLUMNS)
 
 
+# the columns of bond_types.txt (fix ave/time mode vector of fix wirenet/bonds' array): per bond
+# type, its bonds' elastic energy, energy released at ruptures, plastic work, bond damping (J)
+BOND_TALLIES = ("elastic", "released", "plastic", "bond_damping")
+
+
 def read_support_rows(path):
     """anchors.txt / bases.txt (fix ave/time mode vector of fix wirenet/hold ... each): returns
     (steps, ids, forces) with forces[row, atom, xyz] the window-mean reactions (N)."""
+    steps, rows = read_vector_rows(path, 4)
+    return steps, rows[0, :, 0].astype(int), rows[:, :, 1:]
+
+
+def read_bond_types(workdir):
+    """bond_types.txt: (steps, tallies[row, type - 1, BOND_TALLIES])."""
+    return read_vector_rows(os.path.join(workdir, "bond_types.txt"), len(BOND_TALLIES))
+
+
+def component_energies(tallies, components):
+    """{component: {tally: series}} for components {name: bond types}: elastic energy as it is,
+    the dissipations (released, plastic, bond damping) from the first row on."""
+    out = {}
+    for name, types in components.items():
+        cols = tallies[:, [t - 1 for t in types], :].sum(axis=1)
+        out[name] = {k: cols[:, j] - (cols[0, j] if k != "elastic" else 0.0)
+                     for j, k in enumerate(BOND_TALLIES)}
+    return out
+
+
+def read_vector_rows(path, ncols):
+    """A fix ave/time mode vector file ('step rows' lines, each followed by that many 'index
+    values' rows): (steps, values[row, index, ncols])."""
     try:
         lines = [l.split() for l in open(path) if l.strip() and not l.startswith("#")]
     except OSError as exc:
@@ -38,19 +66,21 @@ def read_support_rows(path):
     steps, blocks, k = [], [], 0
     while k < len(lines):
         head = lines[k]
-        if len(head) != 2:
-            raise at(path, k + 1, "expected a 'step rows' line")
-        n = int(head[1])
-        block = np.array([[float(v) for v in row[1:]] for row in lines[k + 1:k + 1 + n]])
-        if block.shape != (n, 4):
-            raise at(path, k + 1, f"expected {n} rows of 4 values")
-        steps.append(int(head[0]))
+        try:
+            step, n = int(head[0]), int(head[1])
+            if len(head) != 2:
+                raise ValueError
+            block = np.array([[float(v) for v in row[1:]] for row in lines[k + 1:k + 1 + n]])
+        except (ValueError, IndexError):
+            raise at(path, k + 1, "expected a 'step rows' line and its rows of numbers") from None
+        if block.shape != (n, ncols) or not np.all(np.isfinite(block)):
+            raise at(path, k + 1, f"expected {n} rows of {ncols} finite values")
+        steps.append(step)
         blocks.append(block)
         k += n + 1
     if not blocks:
         raise PostprocessError(f"{path}: no rows")
-    forces = np.array(blocks)
-    return np.array(steps), forces[0, :, 0].astype(int), forces[:, :, 1:]
+    return np.array(steps), np.array(blocks)
 
 
 def energy_budget(t):

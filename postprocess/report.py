@@ -132,7 +132,8 @@ def fence_summary(meta):
             "closure_error": energy.get("closure_error"),
             "momentum_error": (meta.get("momentum") or {}).get("error"),
             "broken_bonds": meta.get("broken_bonds"),
-            "energy_final": energy.get("final"), "initial_energy": energy.get("initial_energy")}
+            "energy_final": energy.get("final"), "initial_energy": energy.get("initial_energy"),
+            "components": energy.get("components")}
 
 
 FENCE_NOTE = (
@@ -147,6 +148,36 @@ FENCE_NOTE = (
     "row for the second impact on the unrepaired fence; "
     "peaks are window means of the reactions (fence.row_time). Closure and momentum as for the "
     "impact cases.")
+
+
+COMPONENT_NOTE = (
+    "Where each fence case's energy went (kJ): the bonds' energy of fix wirenet/bonds' per-type "
+    "tallies summed per component (runner/fence.py: net = the net's wires and strand ropes, ropes "
+    "= support and upslope ropes, brakes, posts), dissipated over the impact (plastic work, "
+    "energy released at ruptures) or held (elastic energy: its peak during the impact); the rest "
+    "of the budget as its terms at the end of the impact (shackle friction, local and bond "
+    "damping, the block's and the ground's contacts, kinetic energy of block and fence).")
+
+
+def _component_row(name, f):
+    """One row of the energy-per-component table, None without the tallies (older cases)."""
+    parts, final = f.get("components"), f.get("energy_final") or {}
+    if not parts:
+        return None
+
+    def kj(value):
+        return fmt(value / 1e3 if value is not None else None)
+
+    def part(c, k):
+        return (parts.get(c) or {}).get(k)
+    damping = sum(final.get(k, 0.0) for k in ("damping", "bond_damping"))
+    contacts = sum(final.get(k, 0.0) for k in ("contact", "contact_layers", "ground"))
+    kinetic = sum(final.get(k, 0.0) for k in ("ke_block", "ke_net"))
+    return [name, kj(f.get("block_energy")), kj(part("net", "plastic")), kj(part("net", "released")),
+            kj(part("net", "elastic_peak")), kj(part("ropes", "elastic_peak")),
+            kj(part("ropes", "released")), kj(part("brakes", "plastic")),
+            kj(part("posts", "elastic_peak")), kj(final.get("friction")), kj(damping),
+            kj(contacts), kj(kinetic)]
 
 
 def _fence_rows(fences):
@@ -612,6 +643,13 @@ def markdown(directory, summaries, claims, missing, figures, claims_bond=(), dis
                                                else "") if comparison else
                                               "not evaluated (needs a compound and a square "
                                               "fence case with the same block energy).")]
+        rows = [r for r in (_component_row(n, f) for n, f in _fence_rows(fences)) if r]
+        if rows:
+            lines += _section("Fence cases: energy per component", COMPONENT_NOTE)
+            lines += _table(["case", "block energy", "net plastic", "net ruptures",
+                             "net elastic peak", "ropes elastic peak", "ropes ruptures",
+                             "brakes dissipated", "posts elastic peak", "shackle friction",
+                             "damping", "contacts", "kinetic at end"], rows)
     beams = {n: s for n, s in summaries.items() if s.get("beam")}
     for name, s in beams.items():
         lines += ["", f"## Beam check ({name})", ""]

@@ -9,8 +9,9 @@ Deck: inputs/fence.in (include/fence_impact.in). Results, each from its own mech
   and bottom support ropes there), against the nominal height;
 - the window-mean reaction of every anchor and post base as a time series and its peak;
 - the peak tension of every rope family, the elongation of every brake;
-- the energy per component (block, fence kinetic and potential, bonds, wire and brake plastic
-  work, shackle springs and friction, damping, contacts) and the budget's closure;
+- the energy budget (block, fence kinetic and potential, bonds, wire and brake plastic work,
+  shackle springs and friction, damping, contacts) and its closure; the bonds' share split by
+  component (net, ropes, brakes, posts: elastic, plastic, released, bond damping);
 - the momentum balance (supports, gravity, damping impulses);
 - ruptures by family.
 """
@@ -55,7 +56,20 @@ GAP = 0.005              # block to the foremost net node at release [m]
 G = 9.81
 FAMILY_TYPES = {"support_rope": (5,), "brake": (6,), "upslope": (7,), "upslope_brake": (8,),
                 "post": (9,)}
+# the fence's components for the energy per component: its parts' families, and the net (every
+# other bond type: the net's wires and strand ropes of inputs/include/net.in)
+COMPONENT_FAMILIES = {"ropes": ("support_rope", "upslope"), "brakes": ("brake", "upslope_brake"),
+                      "posts": ("post",)}
+
 ESTIMATE = re.compile(r"stable time step estimate ([0-9.eE+-]+) s")
+
+
+def component_types(ntypes):
+    """{component: bond types} of a fence with ntypes bond types."""
+    parts = {c: tuple(t for f in families for t in FAMILY_TYPES[f])
+             for c, families in COMPONENT_FAMILIES.items()}
+    taken = {t for types in parts.values() for t in types}
+    return {"net": tuple(t for t in range(1, ntypes + 1) if t not in taken), **parts}
 
 
 def generator_options(modules, spacing, height, net, post_tilt, head_guides, extra=()):
@@ -229,8 +243,8 @@ def last_nodes(path):
 
 
 def write_outputs(setup, case_dir, workdir, t):
-    """block.csv, energy.csv, supports.csv, ropes.csv, brakes.csv, ruptures.csv and the ParaView
-    series; returns the facts for case.json."""
+    """block.csv, energy.csv, components.csv, supports.csv, ropes.csv, brakes.csv, ruptures.csv
+    and the ParaView series; returns the facts for case.json."""
     time_ = t["time"] - t["time"][0]
     n = np.asarray(setup.meta["normal"], float)
     pos = np.column_stack([t["x"], t["y"], t["z"]])
@@ -243,6 +257,12 @@ def write_outputs(setup, case_dir, workdir, t):
               ("time",) + fence.ENERGY_TERMS + ("total", "closure_error"),
               zip(time_, *(terms[k] for k in fence.ENERGY_TERMS), total, error))
     gap = fence.momentum_balance(t, setup.mass, setup.fence_mass, setup.g)
+    type_steps, tallies = fence.read_bond_types(workdir)
+    components = fence.component_energies(tallies, component_types(tallies.shape[1]))
+    write_csv(os.path.join(case_dir, "components.csv"),
+              ("time",) + tuple(f"{c}_{k}" for c in components for k in fence.BOND_TALLIES),
+              zip((type_steps - type_steps[0]) * setup.dt,
+                  *(components[c][k] for c in components for k in fence.BOND_TALLIES)))
 
     names = {a["id"]: a["name"] for a in setup.meta["anchors"]}
     names.update({b: f"post_base_{k}" for k, b in enumerate(setup.meta["post_bases"])})
@@ -321,7 +341,10 @@ def write_outputs(setup, case_dir, workdir, t):
         brake_elongation_peak=float(np.nanmax([max(e.values()) for e in elongation])),
         energy=dict(closure_error=float(np.max(np.abs(error))), initial_energy=e0,
                     final_error=float(error[-1]),
-                    final={k: float(terms[k][-1]) for k in fence.ENERGY_TERMS}),
+                    final={k: float(terms[k][-1]) for k in fence.ENERGY_TERMS},
+                    components={c: dict({k: float(v[-1]) for k, v in tally.items()},
+                                        elastic_peak=float(np.max(tally["elastic"])))
+                                for c, tally in components.items()}),
         momentum=dict(error=float(np.max(np.linalg.norm(gap, axis=1))),
                       final_error=float(np.linalg.norm(gap[-1]))),
         broken_bonds=len(ruptures), ruptures_by_family=by_family,

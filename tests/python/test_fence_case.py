@@ -86,8 +86,27 @@ def test_report_compares_the_nets(study):
     for name in ("fence_compound", "fence_square"):
         assert (study / "figures" / f"fence_{name}.png").is_file()
         assert (study / name / f"{name}.pvd").is_file()
-        for csv in ("block", "energy", "supports", "ropes", "brakes", "ruptures"):
+        for csv in ("block", "energy", "components", "supports", "ropes", "brakes", "ruptures"):
             assert (study / name / f"{csv}.csv").is_file(), csv
+
+
+def test_report_splits_the_energy_per_component(study):
+    """case.json's energy per component (net, ropes, brakes, posts) adds up to the budget's
+    plastic work and released energy over the impact, and each case has its row in the report's
+    component table."""
+    report = (study / "report.md").read_text()
+    assert "## Fence cases: energy per component" in report
+    for name in ("fence_compound", "fence_square"):
+        m = case_json(study, name)
+        parts = m["energy"]["components"]
+        assert sorted(parts) == ["brakes", "net", "posts", "ropes"]
+        energy = np.genfromtxt(study / name / "energy.csv", delimiter=",", names=True)
+        for tally, term in (("plastic", "w_plastic"), ("released", "e_released")):
+            total = sum(parts[c][tally] for c in parts)
+            assert total == pytest.approx(energy[term][-1] - energy[term][0],
+                                          abs=1e-5 * m["block"]["energy"]), tally
+        assert parts["net"]["elastic_peak"] > 0 and parts["posts"]["elastic_peak"] > 0
+        assert f"| {name} | {m['block']['energy'] / 1e3:.4g} |" in report
 
 
 def test_residual_height_is_the_least_gap_over_the_middle_module():
@@ -163,8 +182,8 @@ def test_sel_reports_both_impacts(sel):
         assert 0 < facts["rest"]["time"] <= m["rest_time"] + 2 * 2e-3 * (1 + 1e-3)
         assert 0.05 < facts["braking_distance"] < m["fence"]["height"]
         assert isinstance(facts["block_stopped"], bool)   # 0.15 s is too short to turn it here
-    for name in ("block.csv", "energy.csv", "supports.csv", "ropes.csv", "brakes.csv",
-                 "ruptures.csv", "impact_2.pvd"):
+    for name in ("block.csv", "energy.csv", "components.csv", "supports.csv", "ropes.csv",
+                 "brakes.csv", "ruptures.csv", "impact_2.pvd"):
         assert (sel / "fence_sel" / "impact_2" / name).is_file(), name
     report = (sel / "report.md").read_text()
     assert "| fence_sel | hex |" in report and "| fence_sel, 2nd impact | hex |" in report

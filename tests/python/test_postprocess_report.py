@@ -323,3 +323,17 @@ def test_report_sums_the_cases_wall_times(tmp_path):
     root = make_study(tmp_path)     # punch_hex 900 s and impact_hex 12.5 s in their case.json
     _, text = report(root)
     assert "Wall time of the cases: 912 s (15.2 min) over 2 case(s)" in text
+
+
+def test_fence_energy_per_component_row():
+    """The report's energy-per-component row: the components' tallies and the budget's other
+    terms in kJ (damping = local + bond damping, contacts = block + layers + ground); a case.json
+    from before the tallies has no row."""
+    parts = {c: {"plastic": 1e3 * k, "released": 0.0, "elastic_peak": 2e3 * k}
+             for k, c in enumerate(("net", "ropes", "brakes", "posts"), 1)}
+    final = {"friction": 4e3, "damping": 1e4, "bond_damping": 500.0, "contact": 300.0,
+             "contact_layers": 200.0, "ground": 0.0, "ke_block": 1e3, "ke_net": 0.0}
+    facts = {"block_energy": 5e5, "components": parts, "energy_final": final}
+    row = report_module._component_row("fence_x", facts)
+    assert row == ["fence_x", "500", "1", "0", "2", "4", "0", "3", "8", "4", "10.5", "0.5", "1"]
+    assert report_module._component_row("old", {"block_energy": 5e5, "energy_final": final}) is None

@@ -118,11 +118,13 @@ _NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
 
 
 def run(deck, workdir, variables=None, np=1, total_steps=None, label="", dt=None,
-        phase_marker=None):
+        phase_marker=None, then=None):
     """Run the deck file in workdir with -var NAME VALUE pairs; show progress (step, simulated
     time, ETA) on long runs; raise with LIGGGHTS' ERROR line on failure. With phase_marker, the
     steps before the log line holding it are a preparation phase of unknown length (reported
-    without ETA); total_steps and the ETA count from that line on."""
+    without ETA); total_steps and the ETA count from that line on. then = (name, steps): a
+    phase that may follow the counted steps for at most that many steps (a rest that ends when
+    the motion has died down), reported as such."""
     workdir = Path(workdir).resolve()
     workdir.mkdir(parents=True, exist_ok=True)
     deck = Path(deck).resolve()
@@ -148,7 +150,7 @@ def run(deck, workdir, variables=None, np=1, total_steps=None, label="", dt=None
                                 stderr=subprocess.STDOUT, text=True, start_new_session=True)
         _LIVE.add(proc)
     try:
-        output = _follow(proc, workdir, total_steps, label, dt, phase_marker)
+        output = _follow(proc, workdir, total_steps, label, dt, phase_marker, then)
     except BaseException:      # an interrupt (or any error) while it runs: it must not outlive us
         stop([proc])
         raise
@@ -171,11 +173,11 @@ def run(deck, workdir, variables=None, np=1, total_steps=None, label="", dt=None
 END_MARKER = "wirenet: end of deck"
 
 
-def _follow(proc, workdir, total_steps, label, dt, phase_marker):
+def _follow(proc, workdir, total_steps, label, dt, phase_marker, then=None):
     """Wait for the process, printing progress lines; return its output. The output goes to a
     pipe read only at the end, so LIGGGHTS must keep it short (-screen screen.txt)."""
     last = time.time()
-    progress = Progress(workdir / "log.lammps", total_steps, label, dt, phase_marker) \
+    progress = Progress(workdir / "log.lammps", total_steps, label, dt, phase_marker, then) \
         if total_steps else None
     while proc.poll() is None:
         time.sleep(0.5)
@@ -187,11 +189,12 @@ def _follow(proc, workdir, total_steps, label, dt, phase_marker):
 
 class Progress:
     """Progress lines of a running deck from the thermo rows of its log: one line whenever the
-    step has moved, with the ETA of the counted phase (after phase_marker, if given)."""
+    step has moved, with the ETA of the counted phase (after phase_marker, if given); steps
+    beyond it belong to the phase `then` = (name, at most so many steps), if given."""
 
-    def __init__(self, log, total, label, dt, phase_marker=None):
+    def __init__(self, log, total, label, dt, phase_marker=None, then=None):
         self.log, self.total, self.label, self.dt = log, total, label, dt
-        self.marker = phase_marker
+        self.marker, self.then = phase_marker, then
         self.phase_start = None if phase_marker else time.time()
         self.first_step = None if phase_marker else 0   # counted step seen at phase_start
         self.last_step = None
@@ -223,10 +226,15 @@ class Progress:
         if not marked:
             print(f"    {self.label}: preparing (step {step})", file=sys.stderr, flush=True)
             return
+        sim = f", t = {step * self.dt:.4g} s" if self.dt else ""
+        if self.then and step > self.total:
+            name, steps = self.then
+            print(f"    {self.label}: {name}: step {step - self.total}/{steps} at most{sim}",
+                  file=sys.stderr, flush=True)
+            return
         elapsed, done = time.time() - self.phase_start, step - self.first_step
         frac = min(step / self.total, 1.0)
         eta = f"{elapsed * max(self.total - step, 0) / done:.0f} s" \
             if done > 0 and elapsed > 0 else "n/a"
-        sim = f", t = {step * self.dt:.4g} s" if self.dt else ""
         print(f"    {self.label}: step {step}/{self.total} ({100 * frac:.0f} %{sim}), ETA {eta}",
               file=sys.stderr, flush=True)

@@ -358,7 +358,8 @@ def run_case(case_dir, np_=1, **setup_options):
     start = time.time()
     wall = liggghts.run(liggghts.INPUTS / "fence.in", workdir, setup.variables(), np=np_,
                         total_steps=setup.steps, label="fence", dt=setup.dt,
-                        phase_marker="impact: block released")
+                        phase_marker="impact: block released",
+                        then=("rest", setup.rest_steps) if setup.rest_steps else None)
     facts = write_outputs(setup, case_dir, workdir, fence.read_table(workdir))
     if setup.impacts == 2:
         second = os.path.join(workdir, "impact_2")

@@ -41,6 +41,15 @@ def test_without_marker_every_step_counts(tmp_path, capsys):
     assert capsys.readouterr().err.strip().startswith("impact: step 100/400 (25 %), ETA")
 
 
+def test_steps_beyond_the_count_belong_to_the_following_phase(tmp_path, capsys):
+    """A fence impact of 400 steps, then a rest of at most 200 (it ends when the motion has
+    died down): step 450 is the rest's 50th, not 112 % of the impact."""
+    log = tmp_path / "log.lammps"
+    log.write_text(THERMO + "450 10 0.1\n")
+    Progress(log, total=400, label="fence", dt=0.01, then=("rest", 200)).report()
+    assert capsys.readouterr().err.strip() == "fence: rest: step 50/200 at most, t = 4.5 s"
+
+
 def test_a_deck_that_stops_before_its_end_marker_is_not_complete(tmp_path):
     """LIGGGHTS ends early and exits 0 when killed from outside (a forced restart); a deck that
     prints the end marker as its last line must have printed it, or the run is an error."""

@@ -51,6 +51,12 @@ CONTACT = dict(kn=1e7, ks=1e6)
 # the residual height after the block rests; 1e-5 of 500 kJ is 5 J, the block at 8 cm/s)
 REST_TIME = 1.0
 REST_KE = 1e-5
+# ... or until the middle module's support ropes are still: the deck's probe of the residual
+# height has stayed within REST_STILL over REST_WINDOW (the height is read to the centimetre; a
+# fence that keeps some motion, e.g. while a rebounding block falls along its foot with no
+# block-ground contact, need not reach the energy limit for its height to be final)
+REST_STILL = 1e-3        # m
+REST_WINDOW = 0.1        # s
 DT_SAFETY = 0.5          # of the smaller of the bond style's estimate and the contact limit
 GAP = 0.005              # block to the foremost net node at release [m]
 G = 9.81
@@ -70,6 +76,17 @@ def component_types(ntypes):
              for c, families in COMPONENT_FAMILIES.items()}
     taken = {t for types in parts.values() for t in types}
     return {"net": tuple(t for t in range(1, ntypes + 1) if t not in taken), **parts}
+
+
+def rest_probe(meta, dt, every):
+    """The deck's variables of the rest's stillness probe (inputs/fence.in): the middle
+    module's x range (as residual_height reads it), the height between the top and the bottom
+    support rope, the window in steps (whole rows of `every`)."""
+    fence_ = meta["fence"]
+    mid = fence_["post_x"][fence_["modules"] // 2:fence_["modules"] // 2 + 2]
+    return dict(rest_still=repr(REST_STILL), rest_x0=repr(min(mid)), rest_x1=repr(max(mid)),
+                rest_zsplit=repr(0.5 * float(fence_["height"])),
+                rest_window=int(math.ceil(REST_WINDOW / dt / every)) * every)
 
 
 def generator_options(modules, spacing, height, net, post_tilt, head_guides, extra=()):
@@ -180,10 +197,12 @@ class Setup:
                  ixz=repr(i[0, 2]), iyz=repr(i[1, 2]), quat=" ".join(map(repr, self.quat)),
                  block_half=repr(self.side / 2), gap=GAP, foot_r=repr(max(1.0, self.side)),
                  node_r=repr(self.node_r), impacts=self.impacts, rest_steps=self.rest_steps,
-                 rest_chunk=self.every, rest_ke=repr(REST_KE * self.energy))
+                 rest_chunk=self.every, rest_ke=repr(REST_KE * self.energy),
+                 **rest_probe(self.meta, self.dt, self.every))
         if self.bond_zeta:
             v["bond_zeta"] = repr(self.bond_zeta)
         return v
+
 
 
 # ---------------------------------------------------------------------------------------------
@@ -226,9 +245,22 @@ def read_rest(workdir):
         return None
     rows = np.atleast_2d(np.loadtxt(os.path.join(workdir, "rest.csv"), delimiter=",",
                                     skiprows=1, ndmin=2))
-    if rows.size == 0:
-        raise PostprocessError(f"{workdir}/rest.csv: no rows")
-    return dict(nodes=last_nodes(dump), time=float(rows[-1, 0]), ke=float(rows[-1, 1]))
+    if rows.size == 0 or rows.shape[1] != 3:
+        raise PostprocessError(f"{workdir}/rest.csv: expected rows of time,ke,gap")
+    return dict(nodes=last_nodes(dump), time=float(rows[-1, 0]), ke=float(rows[-1, 1]),
+                times=rows[:, 0], gaps=rows[:, 2])
+
+
+def rest_facts(rest, impact_end, setup):
+    """case.json's rest: how long it took after the impact's last row, the kinetic energy at
+    its end against the limit, and how far the probe of the residual height moved over its
+    last REST_WINDOW (still: less than REST_STILL, as the deck ends the rest on)."""
+    last = rest["times"] >= rest["times"][-1] - REST_WINDOW * (1 - 1e-9)
+    moved = float(np.ptp(rest["gaps"][last]))
+    full = rest["times"][-1] - impact_end >= REST_WINDOW * (1 - 1e-3)
+    return dict(time=rest["time"] - impact_end, kinetic_energy=rest["ke"],
+                limit=REST_KE * setup.energy, reached=bool(rest["ke"] < REST_KE * setup.energy),
+                probe_moved=moved, still=bool(full and moved < REST_STILL))
 
 
 def last_nodes(path):
@@ -332,9 +364,7 @@ def write_outputs(setup, case_dir, workdir, t):
         residual_height_ratio=height / float(setup.meta["fence"]["height"]),
         residual_height_at="rest" if rest else "end of impact",
         residual_height_end_of_impact=end_of_impact,
-        rest=None if rest is None else dict(
-            time=rest["time"] - float(t["time"][-1]), kinetic_energy=rest["ke"],
-            limit=REST_KE * setup.energy, reached=bool(rest["ke"] < REST_KE * setup.energy)),
+        rest=None if rest is None else rest_facts(rest, float(t["time"][-1]), setup),
         final_block_speed=float(speed[-1]),
         support_peaks=peaks,
         rope_peaks={f: float(np.max(s)) for f, s in peaks_of.items()},

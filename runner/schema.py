@@ -240,7 +240,9 @@ KEYS = [
     Key("fence.rest_time", "number", fence.REST_TIME, "s", "after each impact, the block and "
         "the fence come to rest with the settling's damping (the guideline measures the "
         "residual height then): at most this long, until their kinetic energy is below "
-        f"{fence.REST_KE:g} of the block's; 0: no rest, the residual height at the impact's end",
+        f"{fence.REST_KE:g} of the block's or the middle module's support ropes have moved less "
+        f"than {fence.REST_STILL * 1e3:g} mm in {fence.REST_WINDOW:g} s; 0: no rest, the residual "
+        "height at the impact's end",
         "doc/fence.md", low=0.0, kind="fence", quick=0.1),
     Key("fence.impacts", "integer", 1, "", "1, or 2: the guideline's SEL test, a second block "
         "(the same one) on the unrepaired fence after the first block is taken away and the "

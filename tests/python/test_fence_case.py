@@ -180,6 +180,9 @@ def test_sel_reports_both_impacts(sel):
         assert facts["residual_height_at"] == "rest"
         # from the impact's last row; the rest runs in pieces of one row (fence.row_time 2 ms)
         assert 0 < facts["rest"]["time"] <= m["rest_time"] + 2 * 2e-3 * (1 + 1e-3)
+        # how far the residual height's probe moved over the rest's last 0.1 s (all of it here)
+        assert facts["rest"]["probe_moved"] >= 0.0
+        assert facts["rest"]["still"] == (facts["rest"]["probe_moved"] < 1e-3)
         assert 0.05 < facts["braking_distance"] < m["fence"]["height"]
         assert isinstance(facts["block_stopped"], bool)   # 0.15 s is too short to turn it here
     for name in ("block.csv", "energy.csv", "components.csv", "supports.csv", "ropes.csv",

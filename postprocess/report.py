@@ -122,6 +122,7 @@ def fence_summary(meta):
             "block_stopped": meta.get("block_stopped"),
             "residual_height_ratio": meta.get("residual_height_ratio"),
             "residual_height_at": meta.get("residual_height_at", "end of impact"),
+            "rest_settled": _rest_settled(meta.get("rest")),
             "second": dict(fence_summary(second), net=fence.get("net"),
                            block_energy=(meta.get("block") or {}).get("energy"))
             if isinstance(second, dict) else None,
@@ -136,6 +137,14 @@ def fence_summary(meta):
             "components": energy.get("components")}
 
 
+def _rest_settled(rest):
+    """Whether the rest before the residual height ended settled (below its energy limit, or
+    the ropes still: runner/fence.py), False at its time limit, None without a rest."""
+    if not isinstance(rest, dict):
+        return None
+    return bool(rest.get("reached") or rest.get("still"))
+
+
 FENCE_NOTE = (
     "EAD 340059-00-0106 results of each fence case (runner/fence.py, doc/fence.md): braking "
     "distance = the block's largest travel along the fence normal after first touch (block "
@@ -143,7 +152,8 @@ FENCE_NOTE = (
     "fence never turns, and its braking distance is how far it flew); residual "
     "height = least vertical distance between top and bottom support rope over the middle module "
     "after the block and the fence have come to rest (fence.rest_time; marked 'end' where it "
-    "was measured at the end of the impact), over the nominal height (the guideline's "
+    "was measured at the end of the impact; 'ropes still moving' where the rest ended at its "
+    "time limit with the middle module's ropes still moving), over the nominal height (the guideline's "
     "categories: A >= 50 %, B 30-50 %, C < 30 %); an SEL case (fence.impacts = 2) has a second "
     "row for the second impact on the unrepaired fence; "
     "peaks are window means of the reactions (fence.row_time). Closure and momentum as for the "
@@ -627,6 +637,8 @@ def markdown(directory, summaries, claims, missing, figures, claims_bond=(), dis
                         [[n, f["net"], fmt(f["block_energy"] / 1e3 if f["block_energy"] else None),
                           {True: "yes", False: "no"}.get(f["block_stopped"], "n/a"),
                           fmt(f["braking_distance"]), _percent(f["residual_height_ratio"]) +
+                          ("" if f["residual_height_at"] != "rest" else
+                           " (ropes still moving)" if f.get("rest_settled") is False else "") +
                           ("" if f["residual_height_at"] == "rest" else " (end)"),
                           fmt(f["final_block_speed"]),
                           f"{fmt(f['anchor_peak'] / 1e3 if f['anchor_peak'] else None)} "

@@ -337,3 +337,13 @@ def test_fence_energy_per_component_row():
     row = report_module._component_row("fence_x", facts)
     assert row == ["fence_x", "500", "1", "0", "2", "4", "0", "3", "8", "4", "10.5", "0.5", "1"]
     assert report_module._component_row("old", {"block_energy": 5e5, "energy_final": final}) is None
+
+
+def test_fence_rest_settled():
+    """A residual height after a rest that ended at its time limit with the ropes moving is
+    marked; one below the energy limit or with the ropes still is not; no rest: None."""
+    settled = report_module._rest_settled
+    assert settled({"reached": False, "still": False}) is False
+    assert settled({"reached": False, "still": True}) is True
+    assert settled({"reached": True}) is True
+    assert settled(None) is None

@@ -263,13 +263,16 @@ def rest_facts(rest, impact_end, setup):
                 probe_moved=moved, still=bool(full and moved < REST_STILL))
 
 
-def last_nodes(path):
-    """(ids, positions) of the last frame of a custom dump (id type x y z)."""
+def last_nodes(path, up_to=None):
+    """(ids, positions) of the last frame of a custom dump (id type x y z), or of the last one
+    at or before step up_to (the frames go on through the rest after the impact)."""
     frame = None
-    for frame in dumps.iter_frames(path):
-        pass
+    for candidate in dumps.iter_frames(path):
+        if up_to is not None and candidate.step > up_to:
+            break
+        frame = candidate
     if frame is None:
-        raise PostprocessError(f"{path}: no frames")
+        raise PostprocessError(f"{path}: no frames" + (f" up to step {up_to}" if up_to is not None else ""))
     return frame.integers(frame.names.index("id")), np.column_stack(
         [frame.column(c) for c in ("x", "y", "z")])
 
@@ -345,7 +348,7 @@ def write_outputs(setup, case_dir, workdir, t):
 
     data = read_data(setup.data_path)
     end_of_impact = residual_height(
-        setup, last_nodes(os.path.join(workdir, "frames", "nodes.dump")), data)
+        setup, last_nodes(os.path.join(workdir, "frames", "nodes.dump"), int(t["step"][-1])), data)
     rest = read_rest(workdir)
     height = residual_height(setup, rest["nodes"], data) if rest else end_of_impact
     bodyframes.write_body_frames(workdir, setup.block_path)

@@ -190,3 +190,19 @@ def test_sel_reports_both_impacts(sel):
         assert (sel / "fence_sel" / "impact_2" / name).is_file(), name
     report = (sel / "report.md").read_text()
     assert "| fence_sel | hex |" in report and "| fence_sel, 2nd impact | hex |" in report
+
+
+def test_the_end_of_impact_frame_is_not_the_rest(tmp_path):
+    """The frames go on through the rest: runner.fence.last_nodes(path, up_to) returns the last
+    frame at or before the impact's last step (the residual height at the end of the impact),
+    not the rest's last frame; without up_to the last frame."""
+    from runner import fence as runner_fence
+    frames = ""
+    for step, z in ((0, 1.0), (100, 2.0), (200, 3.0)):
+        frames += (f"ITEM: TIMESTEP\n{step}\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS mm mm mm\n"
+                   f"-1 1\n-1 1\n-1 4\nITEM: ATOMS id type x y z\n7 9 0 0 {z}\n")
+    path = tmp_path / "nodes.dump"
+    path.write_text(frames)
+    assert runner_fence.last_nodes(path, 150)[1][0, 2] == 2.0
+    assert runner_fence.last_nodes(path, 200)[1][0, 2] == 3.0
+    assert runner_fence.last_nodes(path)[1][0, 2] == 3.0

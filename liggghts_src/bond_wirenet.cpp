@@ -274,7 +274,7 @@ void BondWirenet::build_list()
   beam_list.clear();
   section_list.clear();
   // beams of a general section, paired after the circular ones
-  struct Pending { BeamConst<double> b; BeamSection<double> s; int i, j, m; };
+  struct Pending { BeamConst<double> b; BeamSection<double> s; int i, j, m, type; };
   std::vector<Pending> sections;
   const int nlocal = atom->nlocal;
   const int *num_bond = atom->num_bond;
@@ -313,7 +313,7 @@ void BondWirenet::build_list()
       BeamConst<double> b;
       beams[type]->prepare(e.h, b);
       if (beams[type]->has_section()) {  // no damping, no strength (refused by the law)
-        sections.push_back({ b, BeamSection<double>(), i, j, m });
+        sections.push_back({ b, BeamSection<double>(), i, j, m, type });
         beams[type]->prepare_section(e.h, sections.back().s);
         continue;
       }
@@ -328,6 +328,7 @@ void BondWirenet::build_list()
       p.i[k] = i;
       p.j[k] = j;
       p.m[k] = m;
+      p.type[k] = type;
       p.n = k + 1;
     }
   pad_last_pair(nullptr);
@@ -345,6 +346,7 @@ void BondWirenet::build_list()
     p.i[k] = s.i;
     p.j[k] = s.j;
     p.m[k] = s.m;
+    p.type[k] = s.type;
     p.n = k + 1;
   }
   nbeam += (int)sections.size();
@@ -362,6 +364,7 @@ void BondWirenet::pad_last_pair(BeamSection<Lanes> *s)
   p.i[1] = p.i[0];
   p.j[1] = p.j[0];
   p.m[1] = p.m[0];
+  p.type[1] = p.type[0];
   if (s) set_lane(*s, 1, lane(*s, 0));
 }
 
@@ -547,7 +550,7 @@ void BondWirenet::compute_beams(int eflag, int q0, int q1)
         const double dx = n.xi[0] - n.xj[0], dy = n.xi[1] - n.xj[1], dz = n.xi[2] - n.xj[2];
         const double r = sqrt(dx * dx + dy * dy + dz * dz);
         ev_tally(i, j, nlocal, newton_bond, eflag ? out.energy : 0.0, -out.axial / r, dx, dy, dz);
-        if (eflag) elastic_energy[atom->bond_type[i][p.m[k]]] += out.energy;
+        if (eflag) elastic_energy[p.type[k]] += out.energy;
       }
     }
   }
@@ -608,7 +611,7 @@ void BondWirenet::damp_beams()
       const double ca = p.c.ca[k], cs = p.c.cs[k], cb = p.c.cb[k], ct = p.c.ct[k];
       if (ca == 0.0 && cs == 0.0 && cb == 0.0 && ct == 0.0) continue;  // undamped type or broken
       const int i = p.i[k], j = p.j[k];
-      damping_power[atom->bond_type[i][p.m[k]]] += BeamLaw::damp(ca, cs, cb, ct, x + 3 * i, x + 3 * j, v + 3 * i, v + 3 * j, w + 3 * i, w + 3 * j,
+      damping_power[p.type[k]] += BeamLaw::damp(ca, cs, cb, ct, x + 3 * i, x + 3 * j, v + 3 * i, v + 3 * j, w + 3 * i, w + 3 * j,
                                     f + 3 * i, f + 3 * j, t + 3 * i, t + 3 * j);
     }
   }

@@ -53,7 +53,8 @@ class BondWirenet : public Bond {
   struct Entry { int i, j, type, m; double *h; };
   // a wire bond with the constants of its envelope and damping (built with the list)
   struct WireEntry : Entry { WireNet::WireConst k; double zeta; const WireNet::WireLaw *law; };
-  struct BeamPair { WireNet::BeamConst<WireNet::Lanes> c; int i[2], j[2], m[2]; int n; };
+  // type: the bond type (energy tallies per type)
+  struct BeamPair { WireNet::BeamConst<WireNet::Lanes> c; int i[2], j[2], m[2], type[2]; int n; };
   std::vector<WireEntry> wire_list;
   std::vector<BeamPair> beam_list;
   std::vector<WireNet::BeamSection<WireNet::Lanes>> section_list;  // [pair - ncircular]

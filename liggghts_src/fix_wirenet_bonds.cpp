@@ -321,7 +321,7 @@ void FixWirenetBonds::take_pair_forces()
 double FixWirenetBonds::tally_sum(int k) const
 {
   double mine = 0.0, all = 0.0;
-  for (size_t t = 0; t < elastic_mine.size(); t++) mine += tally_mine[t * NTALLY + k];
+  for (size_t q = k; q < tally_mine.size(); q += NTALLY) mine += tally_mine[q];
   MPI_Allreduce(&mine, &all, 1, MPI_DOUBLE, MPI_SUM, world);
   return all;
 }

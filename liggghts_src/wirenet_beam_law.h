@@ -70,7 +70,8 @@ template <typename T> struct BeamConst {
 
 // The anisotropic part of a general section's bending (`section` with IY != IZ), the halves of
 // the differences between the principal axes y and z: with D v = y (y.v) - z (z.v) the end
-// moments get kpd D th_i + kmd D th_j (and the symmetric term), the shear kfd D (th_i + th_j).
+// moments get kpd D th_i + kmd D th_j (and the symmetric term), the shear kfd D (th_i + th_j)
+// at small angles (kfd sets the time step; the kernel's shear is the energy's gradient).
 // A circular section has none and its bonds never read this.
 template <typename T> struct BeamSection { T kpd, kmd, kfd; };
 
@@ -336,7 +337,9 @@ inline __attribute__((always_inline)) bool BeamLaw::kernel(const BeamConst<T> &b
   // twist: dE = tw dphi, dphi = (tx dty - ty dtx) / (tx^2 + ty^2)
   const T tw = b.kt * phi;
   {
-    const T w = tw / (tx * tx + ty * ty), wx = w * tx, wy = w * ty;
+    // (an end's reference normal along the chord, a 90-degree bend, leaves the twist undefined:
+    // the floor keeps its derivative finite there)
+    const T w = tw / larger(tx * tx + ty * ty, T{} + 1e-24), wx = w * tx, wy = w * ty;
     // dE/de, dE/dni, dE/dnj of the twist; torques -n x dE/dn
     ge = { ge.x + wx * nixnj.x + wy * (enj * ni.x + eni * nj.x), ge.y + wx * nixnj.y + wy * (enj * ni.y + eni * nj.y),
            ge.z + wx * nixnj.z + wy * (enj * ni.z + eni * nj.z) };

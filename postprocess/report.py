@@ -137,6 +137,14 @@ def fence_summary(meta):
             "components": energy.get("components")}
 
 
+def _residual_mark(facts):
+    """What the residual height in the fence table is marked with: measured at the impact's end,
+    or after a rest that ended at its time limit with the ropes still moving."""
+    if facts["residual_height_at"] != "rest":
+        return " (end)"
+    return " (ropes still moving)" if facts.get("rest_settled") is False else ""
+
+
 def _rest_settled(rest):
     """Whether the rest before the residual height ended settled (below its energy limit, or
     the ropes still: runner/fence.py), False at its time limit, None without a rest."""
@@ -637,9 +645,7 @@ def markdown(directory, summaries, claims, missing, figures, claims_bond=(), dis
                         [[n, f["net"], fmt(f["block_energy"] / 1e3 if f["block_energy"] else None),
                           {True: "yes", False: "no"}.get(f["block_stopped"], "n/a"),
                           fmt(f["braking_distance"]), _percent(f["residual_height_ratio"]) +
-                          ("" if f["residual_height_at"] != "rest" else
-                           " (ropes still moving)" if f.get("rest_settled") is False else "") +
-                          ("" if f["residual_height_at"] == "rest" else " (end)"),
+                          _residual_mark(f),
                           fmt(f["final_block_speed"]),
                           f"{fmt(f['anchor_peak'] / 1e3 if f['anchor_peak'] else None)} "
                           f"({f['anchor']})",

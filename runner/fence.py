@@ -78,14 +78,24 @@ def component_types(ntypes):
     return {"net": tuple(t for t in range(1, ntypes + 1) if t not in taken), **parts}
 
 
-def rest_probe(meta, dt, every):
-    """The deck's variables of the rest's stillness probe (inputs/fence.in): the middle
-    module's x range (as residual_height reads it), the height between the top and the bottom
-    support rope, the window in steps (whole rows of `every`)."""
+# the support ropes' nodes (wirenet-gen fence: doc/file_formats.md)
+ROPE_NODE_TYPE = 9
+
+
+def middle_module(meta):
+    """Where the residual height is measured: the middle module's x range (between its posts)
+    and the height that splits the top from the bottom support rope as generated."""
     fence_ = meta["fence"]
     mid = fence_["post_x"][fence_["modules"] // 2:fence_["modules"] // 2 + 2]
-    return dict(rest_still=repr(REST_STILL), rest_x0=repr(min(mid)), rest_x1=repr(max(mid)),
-                rest_zsplit=repr(0.5 * float(fence_["height"])),
+    return min(mid), max(mid), 0.5 * float(fence_["height"])
+
+
+def rest_probe(meta, dt, every):
+    """The deck's variables of the rest's stillness probe (inputs/fence.in): the middle
+    module, the window in steps (whole rows of `every`)."""
+    x0, x1, zsplit = middle_module(meta)
+    return dict(rest_still=repr(REST_STILL), rest_x0=repr(x0), rest_x1=repr(x1),
+                rest_zsplit=repr(zsplit),
                 rest_window=int(math.ceil(REST_WINDOW / dt / every)) * every)
 
 
@@ -204,7 +214,6 @@ class Setup:
         return v
 
 
-
 # ---------------------------------------------------------------------------------------------
 # reading the run
 
@@ -219,15 +228,14 @@ def read_parts(path):
 
 def residual_height(setup, nodes_frame, data):
     """Least vertical distance between the top and the bottom support rope over the middle
-    module (its posts' x range), at the last frame; the ropes' nodes are type 9, top or bottom
-    by their height in the data file."""
-    modules = setup.meta["fence"]["modules"]
-    mid = setup.meta["fence"]["post_x"][modules // 2:modules // 2 + 2]
-    rope = data.atoms[data.atoms[:, 1] == 9]
-    top_ids = set(rope[rope[:, 4] > 0.5 * setup.meta["fence"]["height"], 0].astype(int))
+    module (its posts' x range), in the frame (ids, positions); the ropes' nodes are
+    ROPE_NODE_TYPE, top or bottom by their height in the data file."""
+    x0, x1, zsplit = middle_module(setup.meta)
+    rope = data.atoms[data.atoms[:, 1] == ROPE_NODE_TYPE]
+    top_ids = set(rope[rope[:, 4] > zsplit, 0].astype(int))
     ids, pos = nodes_frame
     ropes = np.isin(ids, rope[:, 0].astype(int))
-    inside = ropes & (pos[:, 0] >= min(mid)) & (pos[:, 0] <= max(mid))
+    inside = ropes & (pos[:, 0] >= x0) & (pos[:, 0] <= x1)
     top = inside & np.isin(ids, list(top_ids))
     bottom = inside & ~np.isin(ids, list(top_ids))
     if not top.any() or not bottom.any():

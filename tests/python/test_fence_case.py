@@ -206,3 +206,14 @@ def test_the_end_of_impact_frame_is_not_the_rest(tmp_path):
     assert runner_fence.last_nodes(path, 150)[1][0, 2] == 2.0
     assert runner_fence.last_nodes(path, 200)[1][0, 2] == 3.0
     assert runner_fence.last_nodes(path)[1][0, 2] == 3.0
+
+
+def test_a_rest_file_without_the_probe_column_is_refused(tmp_path):
+    """rest.csv must hold time,ke,gap rows (include/fence_rest.in): an older two-column file
+    is one clear error naming the file, not an index error."""
+    from postprocess.errors import PostprocessError
+    from runner import fence as runner_fence
+    (tmp_path / "rest.dump").write_text("")
+    (tmp_path / "rest.csv").write_text("time,ke\n0.1,5.0\n0.2,4.0\n")
+    with pytest.raises(PostprocessError, match="rest.csv: expected rows of time,ke,gap"):
+        runner_fence.read_rest(tmp_path)

@@ -347,3 +347,8 @@ def test_fence_rest_settled():
     assert settled({"reached": False, "still": True}) is True
     assert settled({"reached": True}) is True
     assert settled(None) is None
+
+    mark = report_module._residual_mark
+    assert mark({"residual_height_at": "end of impact"}) == " (end)"
+    assert mark({"residual_height_at": "rest", "rest_settled": False}) == " (ropes still moving)"
+    assert mark({"residual_height_at": "rest", "rest_settled": True}) == ""

@@ -46,13 +46,31 @@ using WireNet::FixArgs::vector3;
 namespace FixArgs = WireNet::FixArgs;
 
 const int NHIST = 4;      // tangential spring x y z, in contact
-const int NRESTART = 36;
+const int NRESTART = 37;
 
 bool is_number(const char *s)
 {
   char *end = NULL;
   strtod(s, &end);
   return end != s && *end == '\0';
+}
+
+// 'damping A' at arg[k]: Cundall's local damping fraction, 0 <= A < 1; k advances past it
+double damping_value(int narg, char **arg, int &k)
+{
+  const double a = value(narg, arg, k, "damping", 0.0, false);
+  if (!(a < 1.0)) throw std::invalid_argument("damping must be in [0, 1) (got " + text(a) + ")");
+  return a;
+}
+
+// Local damping of a resultant: each component of f less alpha |f_k| in the direction of the
+// velocity component u_k (none where u_k = 0), as fix wirenet/damping does for the nodes
+Vector3d locally_damped(const Vector3d &f, const Vector3d &u, double alpha)
+{
+  Vector3d out = f;
+  for (int d = 0; d < 3; d++)
+    if (u[d] != 0.0) out[d] -= alpha * std::fabs(f[d]) * (u[d] > 0.0 ? 1.0 : -1.0);
+  return out;
 }
 
 void to_array(const Quaterniond &q, double *a) { a[0] = q.w(); a[1] = q.x(); a[2] = q.y(); a[3] = q.z(); }
@@ -134,7 +152,8 @@ double node_contact(const FixWirenetBody::Law &law, double delta, const Vector3d
 }
 
 FixWirenetBody::FixWirenetBody(LAMMPS *lmp, int narg, char **arg) :
-  Fix(lmp, narg, arg), free_body(false), gravity(Vector3d::Zero()), x0(Vector3d::Zero()),
+  Fix(lmp, narg, arg), free_body(false), gravity(Vector3d::Zero()), damping(0.0), work_damping(0.0),
+  x0(Vector3d::Zero()),
   vel_kin(Vector3d::Zero()), omega_kin(Vector3d::Zero()), q0(Quaterniond::Identity()), ramp(0.0),
   elapsed(0.0), pos(Vector3d::Zero()), vel(Vector3d::Zero()), omega(Vector3d::Zero()),
   f_body(Vector3d::Zero()), t_body(Vector3d::Zero()), ncontact(0.0), elastic(0.0), work_body(0.0),
@@ -274,6 +293,8 @@ void FixWirenetBody::parse(int narg, char **arg)
       have_gravity = true;
     } else if (key == "mean") {
       windows.reset(FixArgs::steps(narg, arg, k, key), 3);
+    } else if (key == "damping") {
+      damping = damping_value(narg, arg, k);
     } else {
       throw std::invalid_argument("unknown keyword '" + key + "'");
     }
@@ -284,6 +305,7 @@ void FixWirenetBody::parse(int narg, char **arg)
   if (!free_body) {
     if (have_inertia) throw std::invalid_argument("'inertia' needs a free body: give 'mass M'");
     if (have_gravity) throw std::invalid_argument("'gravity' acts on a free body only: give 'mass M'");
+    if (damping > 0.0) throw std::invalid_argument("'damping' acts on a free body only: give 'mass M'");
     vel_kin = v0;
     omega_kin = w0;
     return;
@@ -358,7 +380,7 @@ void FixWirenetBody::initial_integrate(int)
 {
   const double dt = update->dt;
   if (free_body) {
-    body->kick(f_body + body->mass() * gravity, t_body, 0.5 * dt);
+    kick(0.5 * dt);
     body->drift(dt);
   } else {
     elapsed += dt;
@@ -486,7 +508,7 @@ void FixWirenetBody::final_integrate()
 {
   const double dt = update->dt;
   if (free_body) {
-    body->kick(f_body + body->mass() * gravity, t_body, 0.5 * dt);
+    kick(0.5 * dt);
     update_pose();
   }
   // F(t+dt) . v(t+dt) dt, the convention of fix wirenet/damping and wirenet/contactwork; a
@@ -498,6 +520,36 @@ void FixWirenetBody::final_integrate()
     work_body_mine += dt * (f_mine.dot(vel) + t_mine.dot(omega));
   }
   reduced_at = -1;
+}
+
+// Half kick of the free body by its contacts and weight, less the local damping at the current
+// velocity; the damping's work is its impulse times the mean velocity over the kick
+void FixWirenetBody::kick(double h)
+{
+  const Vector3d f = f_body + body->mass() * gravity;
+  if (damping == 0.0) {
+    body->kick(f, t_body, h);
+    return;
+  }
+  const Vector3d v_before = body->v, w_before = body->omega();
+  const Vector3d fd = locally_damped(f, v_before, damping) - f;
+  const Vector3d td = locally_damped(t_body, w_before, damping) - t_body;
+  body->kick(f + fd, t_body + td, h);
+  work_damping += 0.5 * h * (fd.dot(v_before + body->v) + td.dot(w_before + body->omega()));
+}
+
+int FixWirenetBody::modify_param(int narg, char **arg)
+{
+  if (strcmp(arg[0], "damping") != 0) return 0;
+  try {
+    int k = 0;
+    const double a = damping_value(narg, arg, k);
+    if (a > 0.0 && !free_body) throw std::invalid_argument("'damping' acts on a free body only: give 'mass M'");
+    damping = a;
+  } catch (const std::invalid_argument &e) {
+    error->all(FLERR, (std::string("fix_modify wirenet/body: ") + e.what()).c_str());
+  }
+  return 2;
 }
 
 void FixWirenetBody::end_of_step()
@@ -519,7 +571,7 @@ void FixWirenetBody::end_of_step()
 double FixWirenetBody::compute_vector(int n)
 {
   // a free body's force, torque, contacts and energy are reduced already (its motion needs them)
-  const bool summed = n == 13 || n > 24 || (!free_body && (n < 6 || n == 12 || n == 14 || n == 24));
+  const bool summed = n == 13 || (n > 24 && n < 28) || (!free_body && (n < 6 || n == 12 || n == 14 || n == 24));
   if (summed) reduce();
   if (n < 3) return f_body[n];
   if (n < 6) return t_body[n - 3];
@@ -528,6 +580,7 @@ double FixWirenetBody::compute_vector(int n)
   if (n == 12) return ncontact;
   if (n == 13) return work_nodes_all;
   if (n == 14) return work_body;
+  if (n == 28) return work_damping;
   if (n < 18) return omega[n - 15];
   if (n == 18) return free_body ? body->kinetic_energy() : 0.0;
   if (n == 19) return free_body ? -body->mass() * gravity.dot(pos) : 0.0;
@@ -552,6 +605,7 @@ void FixWirenetBody::write_restart(FILE *fp)
   list[1] = elapsed;
   list[2] = work_body;
   list[3] = work_nodes_all;
+  list[36] = work_damping;
   to_array(q_defined, &list[21]);
   for (int d = 0; d < 3; d++) list[29 + d] = x0[d];
   to_array(q0, &list[32]);
@@ -581,6 +635,7 @@ void FixWirenetBody::restart(char *buf)
   work_body = list[2];
   work_body_mine = comm->me == 0 && !free_body ? list[2] : 0.0;
   work_nodes_mine = comm->me == 0 ? list[3] : 0.0;
+  work_damping = list[36];
   reduced_at = -1;
   q_defined = from_array(&list[21]);
   x0 = Vector3d(list[29], list[30], list[31]);

@@ -27,8 +27,8 @@ namespace LAMMPS_NS {
 class FixWirenetBody : public Fix {
  public:
   // global vector: F(3) T(3) x(3) v(3) ncontact W_nodes W_body omega(3) KE PE q(4) E_elastic
-  // F_mean(3) (the force's mean over the last window of `mean` steps)
-  static const int NVECTOR = 28;
+  // F_mean(3) (the force's mean over the last window of `mean` steps) W_damping
+  static const int NVECTOR = 29;
 
   FixWirenetBody(class LAMMPS *, int, char **);
   ~FixWirenetBody();
@@ -42,6 +42,7 @@ class FixWirenetBody : public Fix {
   void end_of_step();
   void reset_dt() {}
   double compute_vector(int);
+  int modify_param(int, char **);
   void write_restart(FILE *);
   void restart(char *);
 
@@ -72,6 +73,10 @@ class FixWirenetBody : public Fix {
   std::unique_ptr<WireNet::RigidBody> body;
   Eigen::Quaterniond q_shape_in_body;  // free: shape frame in the principal frame
   Eigen::Vector3d gravity;
+  // free: local damping of the body's resultant force and torque (the nodes' fix
+  // wirenet/damping rule, for a body that comes to rest with the fence), and its work (<= 0)
+  double damping;
+  double work_damping;
   // kinematic motion: x(t) from x0, vel and ramp; orientation exp(omega t) q0
   Eigen::Vector3d x0, vel_kin, omega_kin;
   Eigen::Quaterniond q0;
@@ -111,6 +116,7 @@ class FixWirenetBody : public Fix {
   void update_pose();
   void compute_contacts(bool advance);
   void reduce();
+  void kick(double h);
 };
 
 }

@@ -11,6 +11,9 @@
   energy budget closes with the contact-work outputs;
 - 1 and 2 MPI ranks give the same body history with the cut through the contact region;
 - write_restart / read_restart continues the same trajectory (body state and friction history);
+- a free body's local damping (keyword and fix_modify): in free flight it falls at (1 - A) g and
+  rises against (1 + A) g, keeps the velocity and spin no force or torque acts on, and its work
+  output is its whole energy change;
 - bad arguments stop with one ERROR line naming the keyword and value.
 """
 
@@ -25,7 +28,7 @@ from test_wire_errors import check_error
 
 # global vector of fix wirenet/body (1-based index -> name)
 COLUMNS = ["fx", "fy", "fz", "tx", "ty", "tz", "x", "y", "z", "vx", "vy", "vz", "n", "w_nodes", "w_body",
-           "wx", "wy", "wz", "ke", "pe", "qw", "qx", "qy", "qz", "e_el"]
+           "wx", "wy", "wz", "ke", "pe", "qw", "qx", "qy", "qz", "e_el", "fmx", "fmy", "fmz", "w_damp"]
 
 KN = 1e6
 MDROP = 1.0
@@ -507,6 +510,9 @@ BAD = {
     "missing obj": ("polyhedron nosuch.obj kn 1e6", "polyhedron: cannot open 'nosuch.obj'"),
     "bad cone tip": ("cone 0.3 0.7 0.02 tip pointy kn 1e6", "tip must be 'flat' or 'round' (got 'pointy')"),
     "negative ramp": ("sphere 0.1 kn 1e6 vel 0 0 1 ramp -1", "ramp must be >= 0 (got -1)"),
+    "damping of 1": ("sphere 0.1 kn 1e6 mass 1 damping 1", "damping must be in [0, 1) (got 1)"),
+    "nan damping": ("sphere 0.1 kn 1e6 mass 1 damping nan", "damping must be a finite number (got 'nan')"),
+    "damping of a kinematic body": ("sphere 0.1 kn 1e6 damping 0.5", "'damping' acts on a free body only"),
 }
 
 
@@ -538,3 +544,38 @@ def test_window_mean_force_is_the_mean_of_fix_ave_time_on_one_and_two_ranks(tmp_
     assert scale > 1.0
     assert np.abs(one[:, 1:4] - one[:, 4:7]).max() < 1e-12 * scale   # two runs: no step twice
     assert np.abs(two[:, 1:4] - one[:, 1:4]).max() < 1e-9 * scale
+
+
+@pytest.mark.parametrize("vz0", [-1.0, 0.5])
+def test_local_damping_of_a_free_body_in_flight(tmp_path, vz0):
+    """With no contacts the resultant is the weight: falling, the damping takes A of it
+    (acceleration (1 - A) g), rising it adds A ((1 + A) g); the horizontal velocity and the spin
+    see no force or torque and keep their values; KE + PE - initial = W_damping. The first run is
+    undamped (exact free flight), fix_modify then switches the damping on."""
+    A, g, dt, n = 0.7, 9.81, 1e-5, 1000
+    deck = header(5.0) + node(1, (4.0, 4.0, 4.0), 0.01) + (
+        f"fix b all wirenet/body sphere 0.1 kn 1e5 mass 2 vel 0.3 0 {vz0} omega 1 2 3 "
+        f"gravity 0 0 -{g}\ntimestep {dt}\n" + thermo(["b"], n) +
+        f"run {n}\nfix_modify b damping {A}\nrun {n}\n")
+    rows = rows_of(lmp.run_deck(deck, tmp_path), ["b"])
+    t = n * dt
+    start, mid, end = rows[0]["b"], rows[1]["b"], rows[-1]["b"]
+    assert mid["w_damp"] == 0.0
+    assert mid["vz"] == pytest.approx(vz0 - g * t, rel=1e-12)
+    effective = g * (1 - A) if vz0 < 0 else g * (1 + A)
+    assert end["vz"] == pytest.approx(mid["vz"] - effective * t, rel=1e-12)
+    assert end["z"] - mid["z"] == pytest.approx(mid["vz"] * t - 0.5 * effective * t * t, rel=1e-9)
+    assert end["vx"] == pytest.approx(0.3, rel=1e-14) and end["x"] == pytest.approx(0.6 * t, rel=1e-9)
+    assert np.allclose(vec(end, "wx", "wy", "wz"), [1, 2, 3], rtol=1e-12)
+    energy = end["ke"] + end["pe"] - (start["ke"] + start["pe"])
+    assert end["w_damp"] < 0
+    assert energy == pytest.approx(end["w_damp"], rel=1e-9)
+
+
+def test_fix_modify_damping_errors_are_named(tmp_path):
+    for args, phrase in (("damping -0.1", "damping must be >= 0 (got -0.1)"),
+                         ("damping", "'damping' needs a value")):
+        deck = (header(1.0) + node(1, (0.0, 0.0, 0.0), 0.01) +
+                f"fix b all wirenet/body sphere 0.1 kn 1e6 mass 1 centre 0 0 0.5\nfix_modify b {args}\nrun 0\n")
+        rc, out = lmp.run_deck_rc(deck, tmp_path)
+        check_error(rc, out, "fix_modify wirenet/body: " + phrase)

@@ -27,11 +27,11 @@ using namespace FixConst;
 static inline double sign_of(double v) { return (v > 0.0) - (v < 0.0); }
 
 FixWirenetDamping::FixWirenetDamping(LAMMPS *lmp, int narg, char **arg) :
-  Fix(lmp, narg, arg), alpha(0.0), rotational(false), tally(true), integrate(false), dtv(0.0), dtf(0.0),
+  Fix(lmp, narg, arg), alpha(0.0), viscous(0.0), rotational(false), tally(true), integrate(false), dtv(0.0), dtf(0.0),
   ndamped(-1)
 {
   if (narg < 4 || narg % 2 != 0)
-    error->all(FLERR, "fix wirenet/damping: expected 'fix ID GROUP wirenet/damping ALPHA [tally yes|no] [integrate yes|no]'");
+    error->all(FLERR, "fix wirenet/damping: expected 'fix ID GROUP wirenet/damping ALPHA [tally yes|no] [integrate yes|no] [viscous C]'");
   char *end = NULL;
   errno = 0;
   alpha = strtod(arg[3], &end);
@@ -45,9 +45,18 @@ FixWirenetDamping::FixWirenetDamping(LAMMPS *lmp, int narg, char **arg) :
   }
 
   for (int k = 4; k + 1 < narg; k += 2) {
+    if (strcmp(arg[k], "viscous") == 0) {
+      errno = 0;
+      viscous = strtod(arg[k + 1], &end);
+      if (errno || end == arg[k + 1] || *end != '\0' || !(viscous >= 0.0) || !std::isfinite(viscous)) {
+        std::string msg = std::string("fix wirenet/damping: viscous must be a finite number >= 0 (1/s; got '") + arg[k + 1] + "')";
+        error->all(FLERR, msg.c_str());
+      }
+      continue;
+    }
     const bool is_tally = strcmp(arg[k], "tally") == 0, is_integrate = strcmp(arg[k], "integrate") == 0;
     if (!is_tally && !is_integrate) {
-      std::string msg = std::string("fix wirenet/damping: unknown keyword '") + arg[k] + "' (expected tally or integrate)";
+      std::string msg = std::string("fix wirenet/damping: unknown keyword '") + arg[k] + "' (expected tally, integrate or viscous)";
       error->all(FLERR, msg.c_str());
     }
     if (strcmp(arg[k + 1], "yes") != 0 && strcmp(arg[k + 1], "no") != 0) {
@@ -80,6 +89,8 @@ int FixWirenetDamping::setmask()
 void FixWirenetDamping::init()
 {
   rotational = atom->torque_flag && atom->omega_flag;
+  if (viscous > 0.0 && (!atom->rmass_flag || !atom->radius_flag))
+    error->all(FLERR, "fix wirenet/damping: 'viscous' needs spheres (per-atom mass and radius)");
   if (strstr(update->integrate_style, "respa"))
     error->all(FLERR, "fix wirenet/damping does not support run_style respa");
   if (integrate) {
@@ -163,8 +174,9 @@ void FixWirenetDamping::damp()
   // would make the compiler reload them at every atom
   double **f = atom->f, **v = atom->v;
   double **t = rotational ? atom->torque : NULL, **w = rotational ? atom->omega : NULL;
-  const double *rmass = KICK ? atom->rmass : NULL, *radius = KICK ? atom->radius : NULL;
-  const double a = alpha, dtfrotate = dtf / 0.4;   // nve/sphere's I = 0.4 m r^2
+  const bool visc = viscous > 0.0;
+  const double *rmass = KICK || visc ? atom->rmass : NULL, *radius = KICK || visc ? atom->radius : NULL;
+  const double a = alpha, c = viscous, dtfrotate = dtf / 0.4;   // nve/sphere's I = 0.4 m r^2
   // every entry is written below: grow only, no clearing pass
   if (TALLY && fdamp.size() < 6 * (size_t)nlocal) fdamp.resize(6 * (size_t)nlocal);
   double scratch[6];
@@ -177,8 +189,9 @@ void FixWirenetDamping::damp()
     }
     double *fi = f[i], *vi = v[i];
     const double dtfm = KICK ? dtf / rmass[i] : 0.0;
+    const double cm = visc ? c * rmass[i] : 0.0;
     for (int k = 0; k < 3; k++) {
-      fd[k] = -a * fabs(fi[k]) * sign_of(vi[k]);
+      fd[k] = -a * fabs(fi[k]) * sign_of(vi[k]) - cm * vi[k];
       fi[k] += fd[k];
       if (KICK) vi[k] += dtfm * fi[k];
     }
@@ -188,8 +201,9 @@ void FixWirenetDamping::damp()
     }
     double *ti = t[i], *wi = w[i];
     const double dtirotate = KICK ? dtfrotate / (radius[i] * radius[i] * rmass[i]) : 0.0;
+    const double ci = visc ? 0.4 * cm * radius[i] * radius[i] : 0.0;
     for (int k = 0; k < 3; k++) {
-      fd[3 + k] = -a * fabs(ti[k]) * sign_of(wi[k]);
+      fd[3 + k] = -a * fabs(ti[k]) * sign_of(wi[k]) - ci * wi[k];
       ti[k] += fd[3 + k];
       if (KICK) wi[k] += dtirotate * ti[k];
     }

@@ -1,4 +1,5 @@
-/* WireNet: fix wirenet/damping, Cundall's local (non-viscous) damping of force and torque.
+/* WireNet: fix wirenet/damping, Cundall's local (non-viscous) damping of force and torque, with
+   an optional mass-proportional viscous part.
    See doc/fix_wirenet_damping.md. */
 
 #ifdef FIX_CLASS
@@ -33,6 +34,10 @@ class FixWirenetDamping : public Fix {
 
  private:
   double alpha;
+  // keyword viscous: -C m v and -C I w on top of the local damping (1/s; default 0). Local
+  // damping acts on the unbalanced force only, so it cannot stop parts that move at a steady
+  // speed under balanced forces (a net creeping along its ropes, a brake sliding at its plateau)
+  double viscous;
   bool rotational;            // the atom style has torque and omega
   bool tally;                 // keep the work and impulse (keyword tally, default yes)
   // keyword integrate: the fix is also the velocity-Verlet integrator of its atoms (as

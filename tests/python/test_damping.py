@@ -173,6 +173,30 @@ def test_constant_force_is_damped_by_the_law(tmp_path):
     assert (last["wx"], last["wy"], last["wz"]) == (3.0, -2.0, 0.5)
 
 
+@pytest.mark.parametrize("integrate", ["no", "yes"])
+def test_viscous_part_decays_a_free_node_geometrically(tmp_path, integrate):
+    """`viscous C` adds -C m v and -C I w (I = 0.4 m r^2). On a free node (no force, so the local
+    part is zero) velocity Verlet gives, from the setup force -C m v0: v(dt/2) = v0 (1 - C dt/2),
+    then (1 - C dt) per step on the half-step velocity and (1 - C dt/2) to the full step:
+    v_N = v0 (1 - C dt/2)^2 (1 - C dt)^(N - 1), the spin likewise, to round-off; the work is
+    the kinetic energy lost (the tally uses F(t+dt) . v(t+dt), exact only as dt -> 0)."""
+    c, n, dt = 5.0, 1000, 1e-3
+    write_free_body(tmp_path / "free.data")
+    deck = free_body_deck(0.5, n, False, 0.75).replace(
+        "wirenet/damping 0.5", f"wirenet/damping 0.5 viscous {c!r} integrate {integrate}")
+    if integrate == "yes":
+        deck = deck.replace("fix integ all nve/sphere\n", "")
+    rows = lmp.thermo_rows(lmp.run_deck(deck, tmp_path))
+    factor = (1 - c * dt / 2) ** 2 * (1 - c * dt) ** (n - 1)
+    last = rows[-1]
+    v0, w0 = np.array([1.25, -0.5, 0.75]), np.array([3.0, -2.0, 0.5])
+    assert np.allclose([last["vx"], last["vy"], last["vz"]], factor * v0, rtol=1e-12, atol=0)
+    assert np.allclose([last["wx"], last["wy"], last["wz"]], factor * w0, rtol=1e-12, atol=0)
+    m, inertia = MASS, 0.4 * MASS * (D / 2) ** 2
+    lost = 0.5 * (m * v0 @ v0 + inertia * w0 @ w0) * (factor ** 2 - 1)
+    assert last["damp"] == pytest.approx(lost, rel=1e-2)
+
+
 def test_one_and_two_ranks_agree(tmp_path):
     direction = (1.0, 0.7, -0.4)
     one = run_oscillator(tmp_path / "np1", 0.5, 1.0 / 1000.0, 1.5, np_=1, direction=direction)
@@ -183,7 +207,9 @@ def test_one_and_two_ranks_agree(tmp_path):
 
 @pytest.mark.parametrize("alpha,message", [("1", "ALPHA must be in [0, 1) (got 1)"),
                                            ("-0.1", "ALPHA must be in [0, 1) (got -0.1)"),
-                                           ("half", "ALPHA must be a number (got 'half')")])
+                                           ("half", "ALPHA must be a number (got 'half')"),
+                                           ("0.5 viscous -1", "viscous must be a finite number >= 0 (1/s; got '-1')"),
+                                           ("0.5 viscous inf", "viscous must be a finite number >= 0 (1/s; got 'inf')")])
 def test_bad_alpha_is_named(tmp_path, alpha, message):
     lmp.write_data(tmp_path / "free.data", [(1, 1, 0.0, 0.0, 0.0, D, RHO, 1)], [])
     deck = lmp.PREAMBLE + f"read_data free.data\nfix damp all wirenet/damping {alpha}\n"

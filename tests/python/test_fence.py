@@ -33,7 +33,7 @@ import pytest
 import lmp
 from postprocess import fence
 from postprocess.datafile import read_data
-from runner.fence import component_types, rest_probe
+from runner.fence import REST_VISCOUS, component_types, rest_probe
 
 FENCE = ["--modules", "1", "--spacing", "4", "--height", "2", "--net", "hex",
          "--anchor-distance", "2", "--bottom-anchor-distance", "1", "--upslope-distance", "3",
@@ -87,6 +87,7 @@ def settle(folder, np=1, impacts=1):
     var.update(block(folder, meta), every=IMPACT_EVERY, relax_steps=STEPS // IMPACT_EVERY * IMPACT_EVERY)
     if impacts == 2:
         var.update(impacts=2, rest_steps=REST_STEPS, rest_chunk=IMPACT_EVERY, rest_ke=REST_KE,
+                   rest_viscous=REST_VISCOUS,
                    **dict(rest_probe(meta, DT, IMPACT_EVERY), rest_still=REST_STILL_TEST,
                           rest_window=REST_WINDOW_STEPS))
     # index variables defined first win over the deck's own defaults, as -var does

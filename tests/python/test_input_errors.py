@@ -175,13 +175,13 @@ BAD_DAMPING = {
     "exactly 1": ("1", "fix wirenet/damping: ALPHA must be in [0, 1) (got 1)"),
     "negative": ("-0.1", "fix wirenet/damping: ALPHA must be in [0, 1) (got -0.1)"),
     "not a number": ("half", "fix wirenet/damping: ALPHA must be a number (got 'half')"),
-    "missing": ("", "fix wirenet/damping: expected 'fix ID GROUP wirenet/damping ALPHA [tally yes|no] [integrate yes|no]'"),
-    "two values": ("0.5 0.5", "fix wirenet/damping: expected 'fix ID GROUP wirenet/damping ALPHA [tally yes|no] [integrate yes|no]'"),
-    "tally without value": ("0.5 tally", "fix wirenet/damping: expected 'fix ID GROUP wirenet/damping ALPHA [tally yes|no] [integrate yes|no]'"),
+    "missing": ("", "fix wirenet/damping: expected 'fix ID GROUP wirenet/damping ALPHA [tally yes|no] [integrate yes|no] [viscous C]'"),
+    "two values": ("0.5 0.5", "fix wirenet/damping: expected 'fix ID GROUP wirenet/damping ALPHA [tally yes|no] [integrate yes|no] [viscous C]'"),
+    "tally without value": ("0.5 tally", "fix wirenet/damping: expected 'fix ID GROUP wirenet/damping ALPHA [tally yes|no] [integrate yes|no] [viscous C]'"),
     "tally maybe": ("0.5 tally maybe", "fix wirenet/damping: tally must be yes or no (got 'maybe')"),
-    "unknown keyword": ("0.5 work no", "fix wirenet/damping: unknown keyword 'work' (expected tally or integrate)"),
+    "unknown keyword": ("0.5 work no", "fix wirenet/damping: unknown keyword 'work' (expected tally, integrate or viscous)"),
     "integrate maybe": ("0.5 integrate maybe", "fix wirenet/damping: integrate must be yes or no (got 'maybe')"),
-    "integrate without value": ("0.5 tally no integrate", "fix wirenet/damping: expected 'fix ID GROUP wirenet/damping ALPHA [tally yes|no] [integrate yes|no]'"),
+    "integrate without value": ("0.5 tally no integrate", "fix wirenet/damping: expected 'fix ID GROUP wirenet/damping ALPHA [tally yes|no] [integrate yes|no] [viscous C]'"),
 }
 
 

@@ -11,6 +11,7 @@
 
 #include "fix_wirenet_body.h"
 #include "wirenet_fix_args.h"
+#include "wirenet_local_damping.h"
 
 #include <cerrno>
 #include <cmath>
@@ -63,13 +64,11 @@ double damping_value(int narg, char **arg, int &k)
   return a;
 }
 
-// Local damping of a resultant: each component of f less alpha |f_k| in the direction of the
-// velocity component u_k (none where u_k = 0), as fix wirenet/damping does for the nodes
+// Local damping of a resultant, component by component, as fix wirenet/damping does for the nodes
 Vector3d locally_damped(const Vector3d &f, const Vector3d &u, double alpha)
 {
   Vector3d out = f;
-  for (int d = 0; d < 3; d++)
-    if (u[d] != 0.0) out[d] -= alpha * std::fabs(f[d]) * (u[d] > 0.0 ? 1.0 : -1.0);
+  for (int d = 0; d < 3; d++) out[d] += WireNet::local_damping(f[d], u[d], alpha);
   return out;
 }
 

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <stdexcept>
 #include <string>
 
 #include "atom.h"
@@ -20,11 +21,13 @@
 #include "force.h"
 #include "modify.h"
 #include "update.h"
+#include "wirenet_fix_args.h"
+#include "wirenet_local_damping.h"
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
 
-static inline double sign_of(double v) { return (v > 0.0) - (v < 0.0); }
+using WireNet::local_damping;
 
 FixWirenetDamping::FixWirenetDamping(LAMMPS *lmp, int narg, char **arg) :
   Fix(lmp, narg, arg), alpha(0.0), viscous(0.0), rotational(false), tally(true), integrate(false), dtv(0.0), dtf(0.0),
@@ -46,11 +49,11 @@ FixWirenetDamping::FixWirenetDamping(LAMMPS *lmp, int narg, char **arg) :
 
   for (int k = 4; k + 1 < narg; k += 2) {
     if (strcmp(arg[k], "viscous") == 0) {
-      errno = 0;
-      viscous = strtod(arg[k + 1], &end);
-      if (errno || end == arg[k + 1] || *end != '\0' || !(viscous >= 0.0) || !std::isfinite(viscous)) {
-        std::string msg = std::string("fix wirenet/damping: viscous must be a finite number >= 0 (1/s; got '") + arg[k + 1] + "')";
-        error->all(FLERR, msg.c_str());
+      try {
+        int kv = k;
+        viscous = WireNet::FixArgs::value(narg, arg, kv, "viscous", 0.0, false);
+      } catch (const std::invalid_argument &e) {
+        error->all(FLERR, (std::string("fix wirenet/damping: ") + e.what()).c_str());
       }
       continue;
     }
@@ -191,7 +194,7 @@ void FixWirenetDamping::damp()
     const double dtfm = KICK ? dtf / rmass[i] : 0.0;
     const double cm = visc ? c * rmass[i] : 0.0;
     for (int k = 0; k < 3; k++) {
-      fd[k] = -a * fabs(fi[k]) * sign_of(vi[k]) - cm * vi[k];
+      fd[k] = local_damping(fi[k], vi[k], a) - cm * vi[k];
       fi[k] += fd[k];
       if (KICK) vi[k] += dtfm * fi[k];
     }
@@ -203,7 +206,7 @@ void FixWirenetDamping::damp()
     const double dtirotate = KICK ? dtfrotate / (radius[i] * radius[i] * rmass[i]) : 0.0;
     const double ci = visc ? 0.4 * cm * radius[i] * radius[i] : 0.0;
     for (int k = 0; k < 3; k++) {
-      fd[3 + k] = -a * fabs(ti[k]) * sign_of(wi[k]) - ci * wi[k];
+      fd[3 + k] = local_damping(ti[k], wi[k], a) - ci * wi[k];
       ti[k] += fd[3 + k];
       if (KICK) wi[k] += dtirotate * ti[k];
     }

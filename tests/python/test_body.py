@@ -574,8 +574,14 @@ def test_local_damping_of_a_free_body_in_flight(tmp_path, vz0):
 
 def test_fix_modify_damping_errors_are_named(tmp_path):
     for args, phrase in (("damping -0.1", "damping must be >= 0 (got -0.1)"),
-                         ("damping", "'damping' needs a value")):
+                         ("damping", "'damping' needs a value"),
+                         ("damping 1", "damping must be in [0, 1) (got 1)")):
         deck = (header(1.0) + node(1, (0.0, 0.0, 0.0), 0.01) +
                 f"fix b all wirenet/body sphere 0.1 kn 1e6 mass 1 centre 0 0 0.5\nfix_modify b {args}\nrun 0\n")
         rc, out = lmp.run_deck_rc(deck, tmp_path)
         check_error(rc, out, "fix_modify wirenet/body: " + phrase)
+    # a kinematic body (no mass) follows its prescribed motion: damping it would be ignored
+    deck = (header(1.0) + node(1, (0.0, 0.0, 0.0), 0.01) +
+            "fix b all wirenet/body sphere 0.1 kn 1e6 centre 0 0 0.5\nfix_modify b damping 0.5\nrun 0\n")
+    rc, out = lmp.run_deck_rc(deck, tmp_path)
+    check_error(rc, out, "fix_modify wirenet/body: 'damping' acts on a free body only: give 'mass M'")

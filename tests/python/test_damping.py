@@ -208,8 +208,8 @@ def test_one_and_two_ranks_agree(tmp_path):
 @pytest.mark.parametrize("alpha,message", [("1", "ALPHA must be in [0, 1) (got 1)"),
                                            ("-0.1", "ALPHA must be in [0, 1) (got -0.1)"),
                                            ("half", "ALPHA must be a number (got 'half')"),
-                                           ("0.5 viscous -1", "viscous must be a finite number >= 0 (1/s; got '-1')"),
-                                           ("0.5 viscous inf", "viscous must be a finite number >= 0 (1/s; got 'inf')")])
+                                           ("0.5 viscous -1", "fix wirenet/damping: viscous must be >= 0 (got -1)"),
+                                           ("0.5 viscous inf", "fix wirenet/damping: viscous must be a finite number (got 'inf')")])
 def test_bad_alpha_is_named(tmp_path, alpha, message):
     lmp.write_data(tmp_path / "free.data", [(1, 1, 0.0, 0.0, 0.0, D, RHO, 1)], [])
     deck = lmp.PREAMBLE + f"read_data free.data\nfix damp all wirenet/damping {alpha}\n"
@@ -260,11 +260,13 @@ def test_integrate_yes_is_nve_sphere_with_the_damping_to_the_bit(tmp_path):
     assert a[-1, 5] < 0.0 and np.abs(a[:, 1] - a[0, 1]).max() > 1e-6    # it moved, and damped
 
 
-def test_integrate_needs_spheres(tmp_path):
+@pytest.mark.parametrize("keywords,message", [("integrate yes", "'integrate yes' needs spheres"),
+                                              ("viscous 5", "'viscous' needs spheres (per-atom mass and radius)")])
+def test_integrate_and_viscous_need_spheres(tmp_path, keywords, message):
     deck = ("units si\natom_style atomic\natom_modify map array\nboundary f f f\n"
             "region b block -1 1 -1 1 -1 1\ncreate_box 1 b\n"
             "mass 1 1.0\ncreate_atoms 1 single 0 0 0\n"
-            "fix damp all wirenet/damping 0.3 integrate yes\nrun 1\n")
+            f"fix damp all wirenet/damping 0.3 {keywords}\nrun 1\n")
     rc, out = lmp.run_deck_rc(deck, tmp_path)
     errors = lmp.error_lines(out)
-    assert rc != 0 and len(errors) == 1 and "'integrate yes' needs spheres" in errors[0], out[-1500:]
+    assert rc != 0 and len(errors) == 1 and message in errors[0], out[-1500:]

@@ -10,9 +10,12 @@ namespace WireNet {
 
 // The damping force on one component: alpha |f| against the velocity component, none where the
 // component is at rest (the rule acts on unbalanced forces only, never on a node at rest)
+// (copysign and a select instead of sign(v) as a number: no int-to-double conversion, and
+// the same bits: -alpha |f| sign(v) for v != 0, and f + 0 = f + (-0) = f where v = 0)
 inline double local_damping(double f, double v, double alpha)
 {
-  return -alpha * std::fabs(f) * static_cast<double>((v > 0.0) - (v < 0.0));
+  const double d = -std::copysign(alpha * std::fabs(f), v);
+  return v != 0.0 ? d : 0.0;
 }
 
 }  // namespace WireNet

@@ -205,19 +205,6 @@ def test_one_and_two_ranks_agree(tmp_path):
         assert np.allclose(one[key], two[key], rtol=1e-12, atol=1e-15), key
 
 
-@pytest.mark.parametrize("alpha,message", [("1", "ALPHA must be in [0, 1) (got 1)"),
-                                           ("-0.1", "ALPHA must be in [0, 1) (got -0.1)"),
-                                           ("half", "ALPHA must be a number (got 'half')"),
-                                           ("0.5 viscous -1", "fix wirenet/damping: viscous must be >= 0 (got -1)"),
-                                           ("0.5 viscous inf", "fix wirenet/damping: viscous must be a finite number (got 'inf')")])
-def test_bad_alpha_is_named(tmp_path, alpha, message):
-    lmp.write_data(tmp_path / "free.data", [(1, 1, 0.0, 0.0, 0.0, D, RHO, 1)], [])
-    deck = lmp.PREAMBLE + f"read_data free.data\nfix damp all wirenet/damping {alpha}\n"
-    out = lmp.run_deck(deck, tmp_path, check=False)
-    errors = lmp.error_lines(out)
-    assert errors and message in errors[0], out[-1500:]
-
-
 def test_tally_no_damps_the_same_and_has_no_work_to_output(tmp_path):
     """`tally no` (the punch decks) skips only the bookkeeping: the trajectory is the same to the
     bit, and a reference to the work it did not keep is an error naming the fix."""

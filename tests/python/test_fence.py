@@ -292,15 +292,16 @@ def rest_ending(rows):
 def test_the_block_comes_to_rest_in_the_fence(second):
     """The rest after the first impact (include/fence_rest.in: the settling's local damping and a
     viscous part) takes the motion the impact left down by more than 10x (a block that bounced
-    off does not count: it has no ground to land on). Each rest (after the first impact, without the block, after
-    the second) ends below its energy limit, at its time limit, or when the probe of the
-    residual height (rest.csv's gap: the lowest top-rope node minus the highest bottom-rope node
-    over the middle module, x in [-2, 2] m) has stayed within REST_STILL_TEST over a window;
-    here at least one ends on the probe. The probe is that of the state at rest (rest.dump)."""
+    off does not count: it has no ground to land on). Each rest (after the first impact, without
+    the block, after the second) ends below its energy limit, at its time limit, or when the
+    probe of the residual height (rest.csv's gap: the lowest top-rope node minus the highest
+    bottom-rope node over the middle module, x in [-2, 2] m) has stayed within REST_STILL_TEST
+    over a window; here at least one ends on the probe. The probe is that of the state at rest
+    (rest.dump)."""
     meta, first, _, folder = second
     # the rest damps with the runner's viscous part (local damping alone leaves creeping ropes)
     log = (folder / "log.lammps").read_text()
-    assert f"rest: local damping 0.7 (block: 0.7 if rest_block > 0), viscous {REST_VISCOUS} 1/s" in log
+    assert f"rest: damping: local 0.7, viscous {REST_VISCOUS} 1/s on the nodes" in log
     rows = np.loadtxt(folder / "rest.csv", delimiter=",", skiprows=1, ndmin=2)
     assert rows[-1, 1] < 0.1 * rows[0, 1]
     endings = [rest_ending(np.loadtxt(folder / name, delimiter=",", skiprows=1, ndmin=2))

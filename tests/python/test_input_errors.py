@@ -182,6 +182,10 @@ BAD_DAMPING = {
     "unknown keyword": ("0.5 work no", "fix wirenet/damping: unknown keyword 'work' (expected tally, integrate or viscous)"),
     "integrate maybe": ("0.5 integrate maybe", "fix wirenet/damping: integrate must be yes or no (got 'maybe')"),
     "integrate without value": ("0.5 tally no integrate", "fix wirenet/damping: expected 'fix ID GROUP wirenet/damping ALPHA [tally yes|no] [integrate yes|no] [viscous C]'"),
+    "viscous negative": ("0.5 viscous -1", "fix wirenet/damping: viscous must be >= 0 (got -1)"),
+    "viscous inf": ("0.5 viscous inf", "fix wirenet/damping: viscous must be a finite number (got 'inf')"),
+    "viscous not a number": ("0.5 viscous fast", "fix wirenet/damping: viscous must be a finite number (got 'fast')"),
+    "viscous without value": ("0.5 viscous", "fix wirenet/damping: expected 'fix ID GROUP wirenet/damping ALPHA [tally yes|no] [integrate yes|no] [viscous C]'"),
 }
 
 

@@ -47,7 +47,7 @@ using WireNet::FixArgs::vector3;
 namespace FixArgs = WireNet::FixArgs;
 
 const int NHIST = 4;      // tangential spring x y z, in contact
-const int NRESTART = 37;
+const int NRESTART = 45;
 
 bool is_number(const char *s)
 {
@@ -152,9 +152,9 @@ double node_contact(const FixWirenetBody::Law &law, double delta, const Vector3d
 
 FixWirenetBody::FixWirenetBody(LAMMPS *lmp, int narg, char **arg) :
   Fix(lmp, narg, arg), free_body(false), gravity(Vector3d::Zero()), damping(0.0), work_damping(0.0),
-  x0(Vector3d::Zero()),
+  x0(Vector3d::Zero()), vel_from(Vector3d::Zero()),
   vel_kin(Vector3d::Zero()), omega_kin(Vector3d::Zero()), q0(Quaterniond::Identity()), ramp(0.0),
-  elapsed(0.0), pos(Vector3d::Zero()), vel(Vector3d::Zero()), omega(Vector3d::Zero()),
+  elapsed(0.0), motion_modified(false), pos(Vector3d::Zero()), vel(Vector3d::Zero()), omega(Vector3d::Zero()),
   f_body(Vector3d::Zero()), t_body(Vector3d::Zero()), ncontact(0.0), elastic(0.0), work_body(0.0),
   work_body_mine(0.0), work_nodes_mine(0.0), work_nodes_all(0.0), f_mean(Vector3d::Zero()), reduced_at(-1),
   hist(NULL), hist_rows(0), contacts_pending(false), candidates_pos(Vector3d::Zero()),
@@ -355,11 +355,13 @@ void FixWirenetBody::update_pose()
     return;
   }
   const double t = elapsed;
+  // (vel_from is zero unless fix_modify vel changed the motion: the terms in it then add
+  // exact zeros, and a run without fix_modify moves as before to the last bit)
   if (ramp > 0.0 && t < ramp) {
-    pos = x0 + (t * t / (2.0 * ramp)) * vel_kin;
-    vel = (t / ramp) * vel_kin;
+    pos = x0 + (t * t / (2.0 * ramp)) * (vel_kin - vel_from) + t * vel_from;
+    vel = (t / ramp) * (vel_kin - vel_from) + vel_from;
   } else {
-    pos = x0 + (t - 0.5 * ramp) * vel_kin;
+    pos = x0 + (t - 0.5 * ramp) * vel_kin + (0.5 * ramp) * vel_from;
     vel = vel_kin;
   }
   omega = omega_kin;
@@ -537,8 +539,41 @@ void FixWirenetBody::kick(double h)
   work_damping += 0.5 * h * (fd.dot(v_before + body->v) + td.dot(w_before + body->omega()));
 }
 
+// fix_modify ID vel vx vy vz [ramp T]: a kinematic body goes on from where it is, its velocity
+// changing linearly from the current one to the new one over T seconds (0: at once). The clock
+// restarts at the current pose, so the closed-form motion stays exact.
+void FixWirenetBody::modify_velocity(int narg, char **arg)
+{
+  if (free_body) throw std::invalid_argument("'vel' sets the motion of a kinematic body; a free body (with 'mass') moves by its forces");
+  int k = 0;
+  const Vector3d v = vector3(narg, arg, k, "vel");
+  double t_ramp = 0.0;
+  if (k < narg) {
+    if (strcmp(arg[k], "ramp") != 0) throw std::invalid_argument(std::string("unknown keyword '") + arg[k] + "' after 'vel vx vy vz' (only 'ramp T')");
+    t_ramp = value(narg, arg, k, "ramp", 0.0, false);
+  }
+  if (k < narg) throw std::invalid_argument(std::string("unexpected '") + arg[k] + "' after 'ramp T'");
+  update_pose();
+  x0 = pos;
+  vel_from = vel;
+  q0 = q_shape;
+  vel_kin = v;
+  ramp = t_ramp;
+  elapsed = 0.0;
+  motion_modified = true;
+  update_pose();
+}
+
 int FixWirenetBody::modify_param(int narg, char **arg)
 {
+  if (strcmp(arg[0], "vel") == 0) {
+    try {
+      modify_velocity(narg, arg);
+    } catch (const std::invalid_argument &e) {
+      error->all(FLERR, (std::string("fix_modify wirenet/body: ") + e.what()).c_str());
+    }
+    return narg;
+  }
   if (strcmp(arg[0], "damping") != 0) return 0;
   try {
     int k = 0;
@@ -608,6 +643,12 @@ void FixWirenetBody::write_restart(FILE *fp)
   to_array(q_defined, &list[21]);
   for (int d = 0; d < 3; d++) list[29 + d] = x0[d];
   to_array(q0, &list[32]);
+  list[37] = motion_modified ? 1.0 : 0.0;
+  for (int d = 0; d < 3; d++) {
+    list[38 + d] = vel_from[d];
+    list[41 + d] = vel_kin[d];
+  }
+  list[44] = ramp;
   if (free_body) {
     for (int d = 0; d < 3; d++) {
       list[4 + d] = body->x[d];
@@ -639,6 +680,14 @@ void FixWirenetBody::restart(char *buf)
   q_defined = from_array(&list[21]);
   x0 = Vector3d(list[29], list[30], list[31]);
   q0 = from_array(&list[32]);
+  // a motion changed by fix_modify vel continues as stored; otherwise the new definition's
+  // vel and ramp apply (from the stored clock and start pose)
+  motion_modified = list[37] != 0.0;
+  if (motion_modified && !free_body) {
+    vel_from = Vector3d(list[38], list[39], list[40]);
+    vel_kin = Vector3d(list[41], list[42], list[43]);
+    ramp = list[44];
+  }
   if (free_body) {
     const Vector3d moments(list[26], list[27], list[28]);
     if ((moments - body->principal_moments()).norm() > 1e-12 * moments.norm() ||

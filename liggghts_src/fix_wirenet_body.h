@@ -77,11 +77,13 @@ class FixWirenetBody : public Fix {
   // wirenet/damping rule, for a body that comes to rest with the fence), and its work (<= 0)
   double damping;
   double work_damping;
-  // kinematic motion: x(t) from x0, vel and ramp; orientation exp(omega t) q0
-  Eigen::Vector3d x0, vel_kin, omega_kin;
+  // kinematic motion: x(t) from x0, the velocity ramped from vel_from to vel_kin over `ramp`
+  // seconds; orientation exp(omega t) q0. fix_modify vel restarts the clock at the current pose
+  Eigen::Vector3d x0, vel_from, vel_kin, omega_kin;
   Eigen::Quaterniond q0;
   double ramp;
-  double elapsed;                      // time since the fix was defined (kinematic clock)
+  double elapsed;                      // time since the fix was defined or its motion modified
+  bool motion_modified;                // fix_modify vel: the restart file's motion wins
   // pose at the last update: reference point, its velocity, angular velocity, shape frame
   Eigen::Vector3d pos, vel, omega;
   Eigen::Quaterniond q_shape, q_defined;
@@ -113,6 +115,7 @@ class FixWirenetBody : public Fix {
   double margin;                       // the neighbour skin when LIGGGHTS checks every step, else 0
 
   void parse(int narg, char **arg);
+  void modify_velocity(int narg, char **arg);
   void update_pose();
   void compute_contacts(bool advance);
   void reduce();

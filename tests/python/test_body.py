@@ -6,7 +6,9 @@
 - the spheroid's nearest point (Eberly's bisection) against an independent numerical
   minimisation (scipy) for random points inside and outside;
 - friction: the tangential spring grows as kt * v * t, then the force stays at mu * Fn;
-- a kinematic body follows its prescribed motion (ramp, then constant velocity; spin) exactly;
+- a kinematic body follows its prescribed motion (ramp, then constant velocity; spin) exactly,
+  also after fix_modify vel changed its velocity between runs (ramped from the current one), and
+  a restart continues the changed motion;
 - a free sphere dropped on free nodes conserves momentum plus the impulse of its weight, and its
   energy budget closes with the contact-work outputs;
 - 1 and 2 MPI ranks give the same body history with the cut through the contact region;
@@ -311,6 +313,63 @@ def test_kinematic_body_follows_its_prescribed_motion(tmp_path):
     assert rows[-1]["step"] * dt > 2 * ramp
 
 
+
+def speed_change_deck(n1, n2, extra=""):
+    """A spinning cone ramped to v1, then (fix_modify) ramped from v1 to v2 over ramp2."""
+    return (header(2.0) + node(1, (1.5, 1.5, 1.5), 0.01) +
+            "fix c all wirenet/body cone 0.34 0.78 0.02 centre 0.1 0.2 0.3 axis 0 0 -1 kn 1e6 "
+            "vel 0.3 -0.1 -1.2 ramp 0.002 omega 0 2 1\n"
+            "timestep 1e-5\n" + thermo(["c"], 50) + f"run {n1}\n"
+            f"fix_modify c vel 0.6 0.1 -4.8 ramp 0.003\n{extra}run {n2}\n")
+
+
+def speed_change_motion(t, t1):
+    """Closed form of speed_change_deck: position and velocity at time t (change at t1)."""
+    x0, v1, v2 = np.array([0.1, 0.2, 0.3]), np.array([0.3, -0.1, -1.2]), np.array([0.6, 0.1, -4.8])
+    r1, r2 = 0.002, 0.003
+    if t <= t1:
+        return (x0 + v1 * t * t / (2 * r1), v1 * t / r1) if t < r1 else (x0 + v1 * (t - r1 / 2), v1)
+    x1, s = x0 + v1 * (t1 - r1 / 2), t - t1
+    if s < r2:
+        return x1 + v1 * s + (v2 - v1) * s * s / (2 * r2), v1 + (v2 - v1) * s / r2
+    return x1 + v1 * r2 + (v2 - v1) * r2 / 2 + v2 * (s - r2), v2
+
+
+def test_fix_modify_vel_ramps_from_the_current_velocity(tmp_path):
+    """fix_modify vel between runs: the body goes on from where it is, its velocity changing
+    linearly from the old to the new one over the new ramp (no jump in position or velocity);
+    the spin and its orientation go on unchanged."""
+    n1, n2, dt = 400, 600, 1e-5
+    rows = rows_of(lmp.run_deck(speed_change_deck(n1, n2), tmp_path), ["c"])
+    w = np.array([0.0, 2.0, 1.0])
+    assert rows[-1]["step"] == n1 + n2
+    for row in rows:
+        t = row["step"] * dt
+        x, vel = speed_change_motion(t, n1 * dt)
+        assert np.allclose(vec(row["c"], "x", "y", "z"), x, rtol=0, atol=1e-13), row["step"]
+        assert np.allclose(vec(row["c"], "vx", "vy", "vz"), vel, rtol=0, atol=1e-12), row["step"]
+        q = axis_angle(w, np.linalg.norm(w) * t)
+        assert np.allclose(vec(row["c"], "qw", "qx", "qy", "qz"), q, atol=1e-12), row["step"]
+
+
+def test_restart_continues_a_changed_motion(tmp_path):
+    """A restart written after fix_modify vel holds the changed motion: the fix defined again
+    with its first 'vel' goes on with the changed one, as the uninterrupted run."""
+    n1, n2, dt = 400, 600, 1e-5
+    first = speed_change_deck(n1, 100).replace("run 100\n", "run 100\nwrite_restart c.restart\n")
+    lmp.run_deck(first, tmp_path)
+    second = ("read_restart c.restart\natom_modify sort 0 0\nneighbor 0.01 bin\nneigh_modify delay 0\n" +
+              "fix c all wirenet/body cone 0.34 0.78 0.02 centre 0.1 0.2 0.3 axis 0 0 -1 kn 1e6 "
+              "vel 0.3 -0.1 -1.2 ramp 0.002 omega 0 2 1\n"
+              "timestep 1e-5\n" + thermo(["c"], 50) + f"run {n2 - 100}\n")
+    rows = rows_of(lmp.run_deck(second, tmp_path), ["c"])
+    assert rows[-1]["step"] == n1 + n2
+    for row in rows:
+        x, vel = speed_change_motion(row["step"] * dt, n1 * dt)
+        assert np.allclose(vec(row["c"], "x", "y", "z"), x, rtol=0, atol=1e-12), row["step"]
+        assert np.allclose(vec(row["c"], "vx", "vy", "vz"), vel, rtol=0, atol=1e-12), row["step"]
+
+
 # ---- free body ------------------------------------------------------------------------------
 
 def test_default_inertia_of_the_truncated_cube(tmp_path):
@@ -580,6 +639,19 @@ def test_fix_modify_damping_errors_are_named(tmp_path):
                 f"fix b all wirenet/body sphere 0.1 kn 1e6 mass 1 centre 0 0 0.5\nfix_modify b {args}\nrun 0\n")
         rc, out = lmp.run_deck_rc(deck, tmp_path)
         check_error(rc, out, "fix_modify wirenet/body: " + phrase)
+    for args, phrase in (("vel 0 0", "'vel' needs 3 values"),
+                         ("vel 0 0 nan", "vel value must be a finite number (got 'nan')"),
+                         ("vel 0 0 -1 ramp -2", "ramp must be >= 0 (got -2)"),
+                         ("vel 0 0 -1 spin 2", "unknown keyword 'spin' after 'vel vx vy vz' (only 'ramp T')"),
+                         ("vel 0 0 -1 ramp 1 2", "unexpected '2' after 'ramp T'")):
+        deck = (header(1.0) + node(1, (0.0, 0.0, 0.0), 0.01) +
+                f"fix b all wirenet/body sphere 0.1 kn 1e6 centre 0 0 0.5\nfix_modify b {args}\nrun 0\n")
+        rc, out = lmp.run_deck_rc(deck, tmp_path)
+        check_error(rc, out, "fix_modify wirenet/body: " + phrase)
+    deck = (header(1.0) + node(1, (0.0, 0.0, 0.0), 0.01) +
+            "fix b all wirenet/body sphere 0.1 kn 1e6 mass 1 centre 0 0 0.5\nfix_modify b vel 0 0 1\nrun 0\n")
+    rc, out = lmp.run_deck_rc(deck, tmp_path)
+    check_error(rc, out, "fix_modify wirenet/body: 'vel' sets the motion of a kinematic body")
     # a kinematic body (no mass) follows its prescribed motion: damping it would be ignored
     deck = (header(1.0) + node(1, (0.0, 0.0, 0.0), 0.01) +
             "fix b all wirenet/body sphere 0.1 kn 1e6 centre 0 0 0.5\nfix_modify b damping 0.5\nrun 0\n")

@@ -149,6 +149,8 @@ class PunchCase(CaseRunner):
                        steps_per_m=c["punch.steps_per_metre"],
                        quasi_static=c["punch.quasi_static_check"],
                        slow_travel=c["punch.check_travel"], body_model=c["punch.body"],
+                       speed_max=c["punch.speed_max"],
+                       eq_target=c["punch.equilibrium_target"],
                        contact_zeta=c["contact.zeta"],
                        preload_mode={"sag": 2, "settle": 1, "none": 0}[c["preload.mode"]],
                        preload=c["preload.sag"],

@@ -73,6 +73,15 @@ QUICK_TRAVEL = {"square": 0.1, "hex": 0.03, "compound": 0.03}
 # equilibrium and kinetic-energy checks cover every output step of the whole travel.
 SLOW_TRAVEL = {"square": 0.5, "hex": 1.0 / SLOW_FACTOR, "compound": 1.0 / SLOW_FACTOR}
 TOLERANCE = 0.01     # 1 %: curve agreement, kinetic energy fraction, equilibrium
+# Equilibrium-controlled loading (inputs/punch.in, label speed_rule): past the twin's travel
+# the platter's speed follows the panel's equilibrium, scaled every 5 rows so that the largest
+# gap |R - W - F| / R of those rows approaches EQ_TARGET, up to SPEED_MAX times the base speed.
+# Early on, where the force is small, the gap is above the target and the speed stays; it rises
+# once the net carries the load (hex: from about 0.17 m). The twin runs at constant speed: the
+# curve comparison covers the base-speed part, the equilibrium and kinetic-energy checks every
+# row (doc/punch.md). The square mesh's calibrations are cheap: constant speed.
+SPEED_MAX = {"square": 1.0, "hex": 4.0, "compound": 4.0}
+EQ_TARGET = 0.004
 # The loading body: "analytic" (fix wirenet/body, exact shape, no facets: the default) or "mesh"
 # (the generator's STL with fix mesh/surface/stress + wall/gran + move/mesh, for shapes with no
 # analytic form; the facet traps of doc/punch.md apply to it). inputs/include/platter_*.in.
@@ -205,7 +214,8 @@ class Setup:
                  supports=None, preload_mode=2, preload=0.01, gravity=9.81, speed=PAPER_SPEED,
                  mass_scaling=True, shape=None, position=(0.0, 0.0), alpha=ALPHA,
                  contact_zeta=CONTACT_ZETA, slow_travel=None, quasi_static=True, materials=None,
-                 bond_zeta=0.0, row_travel=ROW_TRAVEL, dump_rows=DUMP_ROWS, frames=FRAMES):
+                 bond_zeta=0.0, row_travel=ROW_TRAVEL, dump_rows=DUMP_ROWS, frames=FRAMES,
+                 speed_max=None, eq_target=EQ_TARGET):
         self.body_model = check_body_model(body_model or DEFAULT_BODY.get(platter, "analytic"))
         os.makedirs(workdir, exist_ok=True)
         self.panel, self.platter, self.bending, self.quick = panel, platter, bending, quick
@@ -240,6 +250,15 @@ class Setup:
         self.dt_safety = 0.5
         self.travel = travel or (QUICK_TRAVEL[panel] if quick else 0.5)
         self.slow_travel = SLOW_TRAVEL[panel] if slow_travel is None else slow_travel
+        # (the mesh platter's speed cannot change: constant speed unless asked for, then an error)
+        default_max = SPEED_MAX[panel] if self.body_model == "analytic" else 1.0
+        self.speed_max = float(default_max if speed_max is None else speed_max)
+        self.eq_target = float(eq_target)
+        if self.speed_max > 1.0 and self.body_model != "analytic":
+            raise PostprocessError("punch.speed_max > 1 needs the analytic body (punch.body = "
+                                   "\"analytic\"): the mesh platter's speed cannot change")
+        # the speed may change past the twin's travel (the curve comparison's part)
+        self.speed_from = self.travel * self.slow_travel
         if mass_scaling:
             # steps per metre of travel: sets the equivalent speed (see the module docstring)
             self.steps_per_m = steps_per_m or STEPS_PER_M[panel][1 if quick else 0]
@@ -285,7 +304,20 @@ class Setup:
             return f"cone {s['radius']!r} {s['height']!r} {s.get('tip_radius', 0.0)!r}", "0 0 -1"
         return f"spheroid {s['radius']!r} {s['radius']!r} {s['height']!r}", "0 0 1"
 
-    def variables(self, speed_factor=1.0, every=None, stop_broken=None, travel=None):
+    def expected_steps(self, travel, speed_factor=1.0, controlled=True):
+        """Steps of the punch over ``travel`` (after the pre-load): exact at constant speed; with
+        the speed control an estimate (the part past speed_from at the mean of 1 and
+        speed_max), for the progress line and the frame interval."""
+        base = 1.0 / (self.speed / speed_factor * self.dt)
+        if not controlled or self.speed_max <= 1.0 or travel <= self.speed_from:
+            return int(math.ceil(travel * base))
+        rest = (travel - self.speed_from) / (0.5 * (1.0 + self.speed_max))
+        return int(math.ceil((self.speed_from + rest) * base))
+
+    def variables(self, speed_factor=1.0, every=None, stop_broken=None, travel=None,
+                  controlled=True):
+        """-var values of one run; ``controlled``: the speed control of inputs/punch.in is on
+        (the run; the twin keeps its constant speed)."""
         speed = self.speed / speed_factor
         if every is None:
             every = max(int(round(self.row_travel / (speed * self.dt))), 1)
@@ -307,8 +339,10 @@ class Setup:
                  gamma_n=repr(self.gamma_n), body_model=self.body_model,
                  platter_shape=shape, platter_axis=axis,
                  platter_x=repr(float(self.platter_xy[0])), platter_y=repr(float(self.platter_xy[1])),
-                 frame_every=max(int(math.ceil((travel or self.travel) / (speed * self.dt)
-                                               / self.frames)), 1))
+                 speed_max=repr(self.speed_max if controlled else 1.0),
+                 speed_from=repr(self.speed_from), eq_target=repr(self.eq_target),
+                 frame_every=max(int(math.ceil(self.expected_steps(
+                     travel or self.travel, speed_factor, controlled) / self.frames)), 1))
         if self.supports:     # {deck variable: include file} of runner/cases.write_supports
             v.update((k, os.path.abspath(path)) for k, path in self.supports.items())
         if self.bond_zeta:
@@ -317,19 +351,21 @@ class Setup:
             v["rope_strength"] = rope_strength_keyword(True, self.materials)
         return v, every
 
-    def displacement(self, steps, speed_factor=1.0):
-        """Platter travel after ``steps`` steps (the deck's ramp then constant speed). The mesh
-        platter sums the step velocities of its step-wise ramp; the analytic body's ramp is
-        linear in time (the two differ by half a step's travel at most)."""
-        speed = self.speed / speed_factor
-        nramp = math.ceil(2 * RAMP / (speed * self.dt))     # as inputs/punch.in computes it
-        steps = np.asarray(steps, float)
-        if self.body_model == "analytic":
-            return speed * self.dt * np.where(steps <= nramp, steps ** 2 / (2 * nramp),
-                                              steps - nramp / 2)
-        ramp = steps * (steps + 1) / (2 * nramp)
-        const = (nramp + 1) / 2 + steps - nramp
-        return speed * self.dt * np.where(steps <= nramp, ramp, const)
+
+
+def travel_at(table, times):
+    """Platter travel at the given times from a run's punch.csv: its rows pair the window means
+    of time and travel, which lie on the travel-time curve wherever the speed is constant over
+    the window (and within a fraction of a row's travel in a speed ramp). Linear between rows,
+    from (0, 0), and extrapolated past the last row (a dump at the last step)."""
+    t = np.r_[0.0, np.asarray(table["time"], float)]
+    d = np.r_[0.0, np.asarray(table["displacement"], float)]
+    at = np.atleast_1d(np.asarray(times, float))
+    out = np.interp(at, t, d)
+    if len(t) >= 2 and t[-1] > t[-2]:
+        late = at > t[-1]
+        out[late] = d[-1] + (at[late] - t[-1]) * (d[-1] - d[-2]) / (t[-1] - t[-2])
+    return out if np.ndim(times) else float(out[0])
 
 
 # ---------------------------------------------------------------------------------------------
@@ -339,21 +375,28 @@ def run_pair(setup, case_dir, np_=1):
     """The case at the chosen rate (case_dir/run) and, when the quasi-static check is on, four
     times slower (case_dir/slow), side by side (two processes sharing the np_ ranks, at least one
     each). Returns their folders and wall times."""
-    results, errors = {}, []
+    results, errors, done, done_lock = {}, [], [], threading.Lock()
 
     case_label = liggghts.current_label()   # this thread's; the run and the twin get it too
 
     def one(name, factor):
         with liggghts.labelled(case_label):
             run_one(name, factor)
+        # the first of the two to finish gives its ranks back to the study (runner/study.py)
+        with done_lock:
+            done.append(name)
+            if len(done) < len(threads) and case_label is not None:
+                liggghts.release_cores(case_label, ranks)
 
     def run_one(name, factor):
         workdir = os.path.join(case_dir, name)
-        # the comparison ends at the first rupture: the slow run stops there
+        # the comparison ends at the first rupture: the slow run stops there; it keeps its
+        # constant speed (the speed control is the run's)
         slow = factor > 1
         travel = setup.travel * (setup.slow_travel if slow and not setup.quick else 1.0)
-        variables, every = setup.variables(factor, stop_broken=1 if slow else None, travel=travel)
-        steps = int(math.ceil(travel / (setup.speed / factor * setup.dt)))
+        variables, every = setup.variables(factor, stop_broken=1 if slow else None, travel=travel,
+                                           controlled=not slow)
+        steps = setup.expected_steps(travel, factor, controlled=not slow)
         try:
             # the pre-load's length is not known in advance (it relaxes until the sag settles);
             # the deck restarts the step count at 0 after the line "pre-load: centre sag"
@@ -375,6 +418,16 @@ def run_pair(setup, case_dir, np_=1):
     if errors:
         raise errors[0]
     return results
+
+
+def largest_speed_factor(table, speed):
+    """The platter's largest speed between two rows of punch.csv, as a factor on the base
+    speed (1 at constant speed; up to speed_max under the speed control)."""
+    d, t = np.asarray(table["displacement"], float), np.asarray(table["time"], float)
+    if len(d) < 2:
+        return 1.0
+    ok = np.diff(t) > 0
+    return float(np.max(np.diff(d)[ok] / np.diff(t)[ok]) / speed) if ok.any() else 1.0
 
 
 def read_punch(workdir):
@@ -526,7 +579,7 @@ def first_rupture(setup, workdir, table, families):
     if not len(rows):
         return None
     step, a1, a2, btype = rows[0][:4]
-    d = float(setup.displacement(step))
+    d = float(travel_at(table, step * setup.dt))
     force = float(np.interp(d, np.r_[0.0, table["displacement"]], np.r_[0.0, table["force"]]))
     return dict(displacement=d, force=force, step=int(step),
                 bond=dict(atom1=int(a1), atom2=int(a2), type=int(btype),
@@ -534,7 +587,7 @@ def first_rupture(setup, workdir, table, families):
                 position=[float(v) for v in rows[0][4:7]])
 
 
-def rope_failure(setup, workdir, families):
+def rope_failure(setup, workdir, table, families):
     """How the punch ended for breakable ropes: the travel at the first rope rupture, or None
     (the travel ended first, or the ropes are unbreakable)."""
     if not setup.rope_strength:
@@ -542,7 +595,8 @@ def rope_failure(setup, workdir, families):
     rope = {t for t, name in families.items() if name == "rope"}
     for row in read_ruptures(os.path.join(workdir, "ruptures.dump")):
         if int(row[3]) in rope:
-            return dict(displacement=float(setup.displacement(row[0])), step=int(row[0]))
+            return dict(displacement=float(travel_at(table, row[0] * setup.dt)),
+                        step=int(row[0]))
     return None
 
 
@@ -571,7 +625,7 @@ def write_outputs(setup, case_dir, workdir, table, zones=ZONES):
               [(0.0, 0.0, 0.0)] + [(float(t), float(d), float(f)) for t, d, f in
                                    zip(table["time"], table["displacement"], table["force"])])
     families = write_zones(case_dir, workdir, setup.json_path, zones, setup.dt,
-                           lambda times: setup.displacement(np.round(times / setup.dt)))
+                           lambda times: travel_at(table, times))
     # the ParaView series CASE/CASE.pvd (net) and CASE/CASE_body.pvd (platter); the analytic
     # body's frames are the generator's STL moved to its poses
     bodyframes.write_body_frames(workdir, setup.stl)
@@ -631,13 +685,16 @@ def run_case(case_dir, panel, platter, bending=PAPER_BENDING, quick=False, np_=1
     slow = read_punch(slow_dir) if slow_dir else None
     families = write_outputs(setup, case_dir, run_dir, fast, zones)
     rupture = first_rupture(setup, run_dir, fast, families)
-    rope_end = rope_failure(setup, run_dir, families)
+    rope_end = rope_failure(setup, run_dir, fast, families)
     facts = dict(
         panel=panel, platter=platter, bending=bending, platter_shape=setup.shape,
         body_model=setup.body_model, position=list(setup.position),
         speed=setup.speed, mass_scale=setup.mass_scale, equivalent_speed=setup.equivalent_speed,
         dt=setup.dt, dt_preload=setup.dt_preload, relax_steps=setup.relax_steps,
         steps_per_metre=setup.steps_per_m, damping=setup.alpha, gravity=setup.gravity,
+        speed_control=dict(speed_max=setup.speed_max, equilibrium_target=setup.eq_target,
+                           from_travel=setup.speed_from,
+                           largest_factor=largest_speed_factor(fast, setup.speed)),
         travel=setup.travel, reached=float(fast["displacement"][-1]),
         peak_force=float(np.max(fast["force"])), preload=preload_facts(run_dir),
         first_rupture=rupture,

@@ -187,6 +187,15 @@ KEYS = [
     Key("punch.check_travel", "number", None, "", "fraction of the travel the slower twin runs",
         "doc/punch.md", low=0.0, low_open=True, high=1.0, kind="punch",
         derived="square 0.5, hex/compound 0.25"),
+    Key("punch.speed_max", "number", None, "", "largest factor on punch.speed: past the twin's "
+        "travel the speed follows the panel's equilibrium, rising while the edge reactions "
+        "balance the platter force and weight within punch.equilibrium_target (1: constant "
+        "speed; analytic body only)", "doc/punch.md (equilibrium-controlled loading)", low=1.0,
+        high=100.0, kind="punch", derived="hex/compound 4, square 1; mesh body 1"),
+    Key("punch.equilibrium_target", "number", 0.004, "", "the gap |R - W - F| / R (edge "
+        "reactions R, weight W, platter force F) the speed control aims at",
+        "doc/punch.md (equilibrium-controlled loading)", low=0.0, low_open=True, high=0.01,
+        kind="punch"),
     Key("punch.body", "choice", "analytic", "", "analytic: exact body (fix wirenet/body); mesh: "
         "the generator's STL (facet traps of doc/punch.md)", "doc/fix_wirenet_body.md",
         choices=("analytic", "mesh"), kind="punch"),

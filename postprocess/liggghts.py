@@ -76,6 +76,26 @@ def allow_new_runs():
     _STOPPED.clear()
 
 
+# Cores a case gives back before it ends (a punch whose run or twin has finished while the other
+# goes on), by case label: the study's scheduler may start another case on them.
+_RELEASED = {}
+
+
+def release_cores(label, cores):
+    with _LIVE_LOCK:
+        _RELEASED[label] = _RELEASED.get(label, 0) + cores
+
+
+def released_cores(label):
+    with _LIVE_LOCK:
+        return _RELEASED.get(label, 0)
+
+
+def forget_released(label):
+    with _LIVE_LOCK:
+        _RELEASED.pop(label, None)
+
+
 # The case a thread works for: progress lines name it when cases run side by side.
 _CONTEXT = threading.local()
 

@@ -241,9 +241,10 @@ class Job:
 def _plan(jobs, np_):
     """Ranks of each case. Alone, or on one core, a case takes all --np ranks (a punch splits
     them between its run and its twin). Several cases on several cores run side by side, each
-    on as few ranks as it can use well: one, two for a punch with its twin (one each); a net
-    of a few thousand nodes gains less from a second rank than a second case does
-    (docs/PERFORMANCE.md). Returns the number of cores shared out."""
+    on as few ranks as it can use well: one, two for a punch with its twin (one each; the
+    first of the two to end gives its core back); a net of a few thousand nodes gains less from
+    a second rank than a second case does (docs/PERFORMANCE.md). Returns the number of cores
+    shared out."""
     if np_ == 1 or len(jobs) == 1:
         for job in jobs:
             job.ranks, job.cost = np_, 1
@@ -253,10 +254,24 @@ def _plan(jobs, np_):
     return np_
 
 
+# Relative cost of a case by kind and net, from the measured wall times of the default study
+# (docs/PERFORMANCE.md): the longest cases start first, so that the short ones fill the cores
+# at the end instead of one long case running alone.
+WEIGHT = {("punch", "compound"): 30, ("punch", "hex"): 20, ("impact", "compound"): 15,
+          ("impact", "hex"): 8, ("punch", "square"): 3, ("impact", "square"): 2}
+
+
+def _weight(job):
+    return WEIGHT.get((job.case.kind, job.case["panel.net"]), 1)
+
+
 def run_cases(loaded, out, quick, np_):
-    """Run the cases not yet complete in this mode, side by side where cores allow (_plan);
-    the folder lock is held by the caller. A failed case stops the others (marked
-    'interrupted', redone on the next run) and the study."""
+    """Run the cases not yet complete in this mode, side by side where cores allow (_plan),
+    the longest first (WEIGHT); the folder lock is held by the caller. A case starts whenever a
+    core is free, counting the cores a running case gave back (a punch whose run or twin has
+    finished); a punch pair may then share a core with another case for a while (single-rank
+    processes: the kernel shares the core, no rank spins). A failed case stops the others
+    (marked 'interrupted', redone on the next run) and the study."""
     units = [(case, runner, name, index) for case in loaded
              for runner in [cases.runner_of(case)] for name, index in runner.units()]
     jobs = []
@@ -269,23 +284,25 @@ def run_cases(loaded, out, quick, np_):
             jobs.append(job)
     capacity = _plan(jobs, np_)
     liggghts.allow_new_runs()
-    pending, running = list(jobs), []
+    pending, running = sorted(jobs, key=lambda j: -_weight(j)), []
     try:
         while pending or running:
-            free = capacity - sum(j.cost for j in running)
+            used = sum(max(j.cost - liggghts.released_cores(j.name), 0) for j in running)
             for job in list(pending):
-                if job.cost > free or (job.after is not None and job.after in
-                                       {j.name for j in pending + running}):
+                if used >= capacity:
+                    break
+                if job.after is not None and job.after in {j.name for j in pending + running}:
                     continue
                 _launch(job, out, quick)
                 pending.remove(job)
                 running.append(job)
-                free -= job.cost
+                used += job.cost
             if not running:   # cannot happen: a case waits only for one that runs or waits
                 raise StudyError("internal error: no case can start")
             running[0].thread.join(0.2)
             for job in [j for j in running if not j.thread.is_alive()]:
                 running.remove(job)
+                liggghts.forget_released(job.name)
                 if job.error is not None:
                     pending.clear()
                     _stop_jobs(running, out, quick)

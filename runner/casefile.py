@@ -334,6 +334,9 @@ class Checker:
         if case.kind == "punch" and v["punch.platter"] != "cone" and \
                 v["punch.tip_radius"] is not None:
             self.fail("punch.tip_radius", "only for punch.platter = 'cone'")
+        if case.kind == "punch" and v["punch.body"] == "mesh" and (v["punch.speed_max"] or 1) > 1:
+            self.fail("punch.speed_max", "> 1 needs punch.body = 'analytic' (the mesh platter "
+                                         "moves at a constant speed)")
         for k, item in enumerate(case.impacts, 1):
             label = f"impact[{k}]" if len(case.impacts) > 1 else "impact"
             if item["block"] == "stl":

@@ -173,3 +173,33 @@ def test_deck_names_a_bad_ke_every(tmp_path, ke_every):
                        r"of every = 1000" % ke_every):
         punch.liggghts.run(punch.liggghts.INPUTS / "punch.in", tmp_path,
                            {"ke_every": ke_every, "every": 1000})
+
+
+def test_speed_control_speeds_up_in_equilibrium_and_keeps_the_curve(case, tmp_path):
+    """The equilibrium-controlled speed (inputs/punch.in, label speed_rule) on the quick square
+    case: past the twin's half of the travel the speed rises (rows grow longer in travel) while
+    every row still balances within 1 % of the peak reaction, and the force at equal travel
+    stays on the constant-speed curve of the module's case within 1 % of its peak. The travel
+    of each bond dump (zone_forces.csv) is read off punch.csv, not speed x steps."""
+    folder, facts = case
+    fast = punch.run_case(str(tmp_path), "square", "cone", bending=0.05, quick=True,
+                          quasi_static=False, speed_max=4.0, eq_target=0.01)
+    control = fast["speed_control"]
+    assert control["from_travel"] == pytest.approx(0.05)
+    assert 1.5 < control["largest_factor"] <= 4.0 + 1e-9
+    assert facts["speed_control"]["largest_factor"] == pytest.approx(1.0, abs=1e-6)
+    assert fast["quasi_static"]["equilibrium_error"] < 0.01
+    ref = punch.read_punch(str(folder / "run"))
+    run = punch.read_punch(str(tmp_path / "run"))
+    assert len(run["force"]) < len(ref["force"])          # fewer steps: faster in travel
+    steady = run["displacement"] <= ref["displacement"][-1]
+    gap = np.abs(run["force"][steady] - np.interp(run["displacement"][steady],
+                                                   ref["displacement"], ref["force"]))
+    assert gap.max() < 0.01 * ref["force"].max()
+    # each dump's travel lies on the punch.csv curve (interpolated at the dump's time)
+    with open(tmp_path / "zone_forces.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    t = np.array([float(r["time"]) for r in rows])
+    d = np.array([float(r["displacement"]) for r in rows])
+    assert np.all(np.diff(d[::len(set(r["family"] for r in rows))]) > 0)
+    assert np.allclose(d, punch.travel_at(run, t), atol=1e-9)

@@ -12,7 +12,9 @@ sqrt(S) as well. A run at speed v with masses S m is therefore the same computat
 step, as a run at v sqrt(S) with the true masses: the number of steps per metre of travel is
 what buys quasi-statics. The platter moves at the paper's 1 cm/s (so `time` in platter.csv is
 the test's time) and S is chosen to give the number of steps per metre that the evidence below
-requires; `equivalent_speed` in case.json is v sqrt(S), the speed with the true masses.
+requires; `equivalent_speed` in case.json is v sqrt(S), the speed with the true masses. Past
+the twin's travel the speed follows the equilibrium (SPEED_MAX, EQ_TARGET below), so from there
+`time` is no longer travel / speed; every travel is read off punch.csv (travel_at).
 
 Evidence, computed for every case and written to case.json:
 - the same case is run four times slower (speed / 4, same masses and step): the largest

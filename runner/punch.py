@@ -373,22 +373,50 @@ def travel_at(table, times):
 # ---------------------------------------------------------------------------------------------
 # runs
 
+PRELOAD_MARKER = "pre-load: centre sag"   # the deck's line after the pre-load (and its restart)
+
+
 def run_pair(setup, case_dir, np_=1):
     """The case at the chosen rate (case_dir/run) and, when the quasi-static check is on, four
     times slower (case_dir/slow), side by side (two processes sharing the np_ ranks, at least one
-    each). Returns their folders and wall times."""
+    each). The twin does not repeat the pre-load: the run writes run/preload.restart once its
+    pre-load is done and the twin starts from it (the same panel to the last bit of the
+    restart file). While the run pre-loads alone, the twin's ranks are given back to the study
+    (runner/study.py). Returns their folders and wall times."""
     results, errors, done, done_lock = {}, [], [], threading.Lock()
-
     case_label = liggghts.current_label()   # this thread's; the run and the twin get it too
+    restart = os.path.join(case_dir, "run", "preload.restart")
+
+    def release(cores):
+        if case_label is not None:
+            liggghts.release_cores(case_label, cores)
 
     def one(name, factor):
         with liggghts.labelled(case_label):
+            if name == "slow" and not wait_for_preload():
+                return       # the run failed before its pre-load ended: its error is raised
             run_one(name, factor)
-        # the first of the two to finish gives its ranks back to the study (runner/study.py)
+        # the first of the two to finish gives its ranks back to the study
         with done_lock:
             done.append(name)
-            if len(done) < len(threads) and case_label is not None:
-                liggghts.release_cores(case_label, ranks)
+            if len(done) < len(threads):
+                release(ranks)
+
+    def wait_for_preload():
+        log = os.path.join(case_dir, "run", "log.lammps")
+        while threads[0].is_alive():
+            try:
+                with open(log, errors="replace") as fh:
+                    if PRELOAD_MARKER in fh.read():
+                        release(-ranks)
+                        return True
+            except OSError:
+                pass
+            time.sleep(0.5)
+        if "run" in results:    # the run ended (quickly) after writing the restart
+            release(-ranks)
+            return True
+        return False
 
     def run_one(name, factor):
         workdir = os.path.join(case_dir, name)
@@ -398,13 +426,15 @@ def run_pair(setup, case_dir, np_=1):
         travel = setup.travel * (setup.slow_travel if slow and not setup.quick else 1.0)
         variables, every = setup.variables(factor, stop_broken=1 if slow else None, travel=travel,
                                            controlled=not slow)
+        if len(threads) > 1:
+            variables.update(dict(preloaded=1, restart=restart) if slow else dict(save_preload=1))
         steps = setup.expected_steps(travel, factor, controlled=not slow)
         try:
             # the pre-load's length is not known in advance (it relaxes until the sag settles);
-            # the deck restarts the step count at 0 after the line "pre-load: centre sag"
+            # the deck restarts the step count at 0 after the line PRELOAD_MARKER
             wall = liggghts.run(liggghts.INPUTS / "punch.in", workdir, variables, np=ranks,
                                 total_steps=steps, label=f"{name}", dt=setup.dt,
-                                phase_marker="pre-load: centre sag")
+                                phase_marker=PRELOAD_MARKER)
             results[name] = (workdir, wall, factor)
         except Exception as exc:      # re-raised below, in the caller's thread
             errors.append(exc)
@@ -413,12 +443,16 @@ def run_pair(setup, case_dir, np_=1):
     if setup.quasi_static:
         threads.append(threading.Thread(target=one, args=("slow", float(SLOW_FACTOR))))
     ranks = max(np_ // len(threads), 1)
+    if len(threads) > 1:
+        release(ranks)        # the twin waits for the run's pre-load
     for t in threads:
         t.start()
     for t in threads:
         t.join()
     if errors:
         raise errors[0]
+    if os.path.isfile(restart):
+        os.remove(restart)    # the pair's own hand-over, no output
     return results
 
 

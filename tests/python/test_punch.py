@@ -203,3 +203,22 @@ def test_speed_control_speeds_up_in_equilibrium_and_keeps_the_curve(case, tmp_pa
     d = np.array([float(r["displacement"]) for r in rows])
     assert np.all(np.diff(d[::len(set(r["family"] for r in rows))]) > 0)
     assert np.allclose(d, punch.travel_at(run, t), atol=1e-9)
+
+
+def test_twin_from_the_runs_preload_is_the_twin_with_its_own(case, tmp_path):
+    """The 4x slower twin starts from the restart the run writes after its pre-load
+    (runner/punch.run_pair). The same twin with a pre-load of its own gives the same punch.csv
+    to the last digit: the restart file carries the whole panel (positions, velocities, scaled
+    masses, bond history), and the hand-over file is removed afterwards."""
+    folder, _ = case
+    setup = punch.Setup(str(tmp_path / "setup"), "square", "cone", 0.05, True)
+    travel = setup.travel        # a quick twin runs the whole travel (runner/punch.run_pair)
+    variables, _ = setup.variables(punch.SLOW_FACTOR, stop_broken=1, travel=travel,
+                                   controlled=False)
+    punch.liggghts.run(punch.liggghts.INPUTS / "punch.in", str(tmp_path / "slow"), variables)
+    own = (tmp_path / "slow" / "punch.csv").read_text()
+    shared = (folder / "slow" / "punch.csv").read_text()
+    assert len(own.splitlines()) > 10
+    assert own == shared
+    assert "as left in" in (folder / "slow" / "log.lammps").read_text()
+    assert not (folder / "run" / "preload.restart").exists()

@@ -354,7 +354,6 @@ class Setup:
         return v, every
 
 
-
 def travel_at(table, times):
     """Platter travel at the given times from a run's punch.csv: its rows pair the window means
     of time and travel, which lie on the travel-time curve wherever the speed is constant over

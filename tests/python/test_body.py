@@ -631,29 +631,28 @@ def test_local_damping_of_a_free_body_in_flight(tmp_path, vz0):
     assert energy == pytest.approx(end["w_damp"], rel=1e-9)
 
 
-def test_fix_modify_damping_errors_are_named(tmp_path):
-    for args, phrase in (("damping -0.1", "damping must be >= 0 (got -0.1)"),
-                         ("damping", "'damping' needs a value"),
-                         ("damping 1", "damping must be in [0, 1) (got 1)")):
-        deck = (header(1.0) + node(1, (0.0, 0.0, 0.0), 0.01) +
-                f"fix b all wirenet/body sphere 0.1 kn 1e6 mass 1 centre 0 0 0.5\nfix_modify b {args}\nrun 0\n")
-        rc, out = lmp.run_deck_rc(deck, tmp_path)
-        check_error(rc, out, "fix_modify wirenet/body: " + phrase)
-    for args, phrase in (("vel 0 0", "'vel' needs 3 values"),
-                         ("vel 0 0 nan", "vel value must be a finite number (got 'nan')"),
-                         ("vel 0 0 -1 ramp -2", "ramp must be >= 0 (got -2)"),
-                         ("vel 0 0 -1 spin 2", "unknown keyword 'spin' after 'vel vx vy vz' (only 'ramp T')"),
-                         ("vel 0 0 -1 ramp 1 2", "unexpected '2' after 'ramp T'")):
-        deck = (header(1.0) + node(1, (0.0, 0.0, 0.0), 0.01) +
-                f"fix b all wirenet/body sphere 0.1 kn 1e6 centre 0 0 0.5\nfix_modify b {args}\nrun 0\n")
-        rc, out = lmp.run_deck_rc(deck, tmp_path)
-        check_error(rc, out, "fix_modify wirenet/body: " + phrase)
+# bad fix_modify arguments: (body keywords, fix_modify arguments, the message after "fix_modify
+# wirenet/body: "); a kinematic body (no mass) follows its prescribed motion, so damping it
+# would be ignored, and a free body moves by its forces, so a prescribed velocity would be
+BAD_MODIFY = {
+    "negative damping": ("mass 1", "damping -0.1", "damping must be >= 0 (got -0.1)"),
+    "damping without value": ("mass 1", "damping", "'damping' needs a value"),
+    "damping of 1": ("mass 1", "damping 1", "damping must be in [0, 1) (got 1)"),
+    "damping of a kinematic body": ("", "damping 0.5", "'damping' acts on a free body only: give 'mass M'"),
+    "vel with 2 values": ("", "vel 0 0", "'vel' needs 3 values"),
+    "nan vel": ("", "vel 0 0 nan", "vel value must be a finite number (got 'nan')"),
+    "negative ramp": ("", "vel 0 0 -1 ramp -2", "ramp must be >= 0 (got -2)"),
+    "unknown keyword after vel": ("", "vel 0 0 -1 spin 2",
+                                  "unknown keyword 'spin' after 'vel vx vy vz' (only 'ramp T')"),
+    "extra value after ramp": ("", "vel 0 0 -1 ramp 1 2", "unexpected '2' after 'ramp T'"),
+    "vel of a free body": ("mass 1", "vel 0 0 1", "'vel' sets the motion of a kinematic body"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD_MODIFY))
+def test_fix_modify_errors_are_named(tmp_path, case):
+    body, args, phrase = BAD_MODIFY[case]
     deck = (header(1.0) + node(1, (0.0, 0.0, 0.0), 0.01) +
-            "fix b all wirenet/body sphere 0.1 kn 1e6 mass 1 centre 0 0 0.5\nfix_modify b vel 0 0 1\nrun 0\n")
+            f"fix b all wirenet/body sphere 0.1 kn 1e6 {body} centre 0 0 0.5\nfix_modify b {args}\nrun 0\n")
     rc, out = lmp.run_deck_rc(deck, tmp_path)
-    check_error(rc, out, "fix_modify wirenet/body: 'vel' sets the motion of a kinematic body")
-    # a kinematic body (no mass) follows its prescribed motion: damping it would be ignored
-    deck = (header(1.0) + node(1, (0.0, 0.0, 0.0), 0.01) +
-            "fix b all wirenet/body sphere 0.1 kn 1e6 centre 0 0 0.5\nfix_modify b damping 0.5\nrun 0\n")
-    rc, out = lmp.run_deck_rc(deck, tmp_path)
-    check_error(rc, out, "fix_modify wirenet/body: 'damping' acts on a free body only: give 'mass M'")
+    check_error(rc, out, "fix_modify wirenet/body: " + phrase)

@@ -79,9 +79,9 @@ TOLERANCE = 0.01     # 1 %: curve agreement, kinetic energy fraction, equilibriu
 # the platter's speed follows the panel's equilibrium, scaled every 5 rows so that the largest
 # gap |R - W - F| / R of those rows approaches EQ_TARGET, up to SPEED_MAX times the base speed.
 # Early on, where the force is small, the gap is above the target and the speed stays; it rises
-# once the net carries the load (hex: from about 0.17 m). The twin runs at constant speed: the
-# curve comparison covers the base-speed part, the equilibrium and kinetic-energy checks every
-# row (doc/punch.md). The square mesh's calibrations are cheap: constant speed.
+# once the net carries the load (hex: from 0.18 m, compound 0.16 m). The twin runs at constant
+# speed: the curve comparison covers the base-speed part, the equilibrium and kinetic-energy
+# checks every row (doc/punch.md). The square mesh's calibrations are cheap: constant speed.
 SPEED_MAX = {"square": 1.0, "hex": 4.0, "compound": 4.0}
 EQ_TARGET = 0.004
 # The loading body: "analytic" (fix wirenet/body, exact shape, no facets: the default) or "mesh"

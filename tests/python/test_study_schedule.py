@@ -44,7 +44,7 @@ class FakeRunner:
         if self.case.width_ == 2:
             liggghts.release_cores(liggghts.current_label(), 1)
             self._note("release", name)
-        time.sleep(0.6 if self.case.width_ == 2 else 0.3)
+        time.sleep(1.5 if self.case.width_ == 2 else 0.3)   # room for the 0.2 s poll
         self._note("end", name)
         return {}
 

@@ -138,11 +138,12 @@ _NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
 
 
 def run(deck, workdir, variables=None, np=1, total_steps=None, label="", dt=None,
-        phase_marker=None, then=None):
+        phase_marker=None, then=None, marker_seen=None):
     """Run the deck file in workdir with -var NAME VALUE pairs; show progress (step, simulated
     time, ETA) on long runs; raise with LIGGGHTS' ERROR line on failure. With phase_marker, the
     steps before the log line holding it are a preparation phase of unknown length (reported
-    without ETA); total_steps and the ETA count from that line on. then = (name, steps): a
+    without ETA); total_steps and the ETA count from that line on; marker_seen (a
+    threading.Event) is set once the progress scan has seen that line. then = (name, steps): a
     phase that may follow the counted steps for at most that many steps (a rest that ends when
     the motion has died down), reported as such."""
     workdir = Path(workdir).resolve()
@@ -170,7 +171,7 @@ def run(deck, workdir, variables=None, np=1, total_steps=None, label="", dt=None
                                 stderr=subprocess.STDOUT, text=True, start_new_session=True)
         _LIVE.add(proc)
     try:
-        output = _follow(proc, workdir, total_steps, label, dt, phase_marker, then)
+        output = _follow(proc, workdir, total_steps, label, dt, phase_marker, then, marker_seen)
     except BaseException:      # an interrupt (or any error) while it runs: it must not outlive us
         stop([proc])
         raise
@@ -193,12 +194,12 @@ def run(deck, workdir, variables=None, np=1, total_steps=None, label="", dt=None
 END_MARKER = "wirenet: end of deck"
 
 
-def _follow(proc, workdir, total_steps, label, dt, phase_marker, then=None):
+def _follow(proc, workdir, total_steps, label, dt, phase_marker, then=None, marker_seen=None):
     """Wait for the process, printing progress lines; return its output. The output goes to a
     pipe read only at the end, so LIGGGHTS must keep it short (-screen screen.txt)."""
     last = time.time()
-    progress = Progress(workdir / "log.lammps", total_steps, label, dt, phase_marker, then) \
-        if total_steps else None
+    progress = Progress(workdir / "log.lammps", total_steps, label, dt, phase_marker, then,
+                        marker_seen) if total_steps else None
     while proc.poll() is None:
         time.sleep(0.5)
         if progress and time.time() - last > 5:
@@ -212,9 +213,9 @@ class Progress:
     step has moved, with the ETA of the counted phase (after phase_marker, if given); steps
     beyond it belong to the phase `then` = (name, at most so many steps), if given."""
 
-    def __init__(self, log, total, label, dt, phase_marker=None, then=None):
+    def __init__(self, log, total, label, dt, phase_marker=None, then=None, marker_seen=None):
         self.log, self.total, self.label, self.dt = log, total, label, dt
-        self.marker, self.then = phase_marker, then
+        self.marker, self.then, self.marker_seen = phase_marker, then, marker_seen
         self.phase_start = None if phase_marker else time.time()
         self.first_step = None if phase_marker else 0   # counted step seen at phase_start
         self.last_step = None
@@ -240,6 +241,8 @@ class Progress:
             return
         if marked and self.phase_start is None:
             self.phase_start, self.first_step = time.time(), step or 0
+            if self.marker_seen is not None:
+                self.marker_seen.set()
         if step is None or (step, marked) == self.last_step:
             return
         self.last_step = (step, marked)

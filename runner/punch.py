@@ -383,6 +383,7 @@ def run_pair(setup, case_dir, np_=1):
     restart file). While the run pre-loads alone, the twin's ranks are given back to the study
     (runner/study.py). Returns their folders and wall times."""
     results, errors, done, done_lock = {}, [], [], threading.Lock()
+    preloaded = threading.Event()           # the run's progress scan saw PRELOAD_MARKER
     case_label = liggghts.current_label()   # this thread's; the run and the twin get it too
     restart = os.path.join(case_dir, "run", "preload.restart")
 
@@ -402,17 +403,11 @@ def run_pair(setup, case_dir, np_=1):
                 release(ranks)
 
     def wait_for_preload():
-        log = os.path.join(case_dir, "run", "log.lammps")
-        while threads[0].is_alive():
-            try:
-                with open(log, errors="replace") as fh:
-                    if PRELOAD_MARKER in fh.read():
-                        release(-ranks)
-                        return True
-            except OSError:
-                pass
-            time.sleep(0.5)
-        if "run" in results:    # the run ended (quickly) after writing the restart
+        """True once the run has written its restart (its progress scan saw the line after
+        it, or the run ended well), False if the run failed first."""
+        while not preloaded.wait(0.5) and threads[0].is_alive():
+            pass
+        if preloaded.is_set() or "run" in results:
             release(-ranks)
             return True
         return False
@@ -433,7 +428,8 @@ def run_pair(setup, case_dir, np_=1):
             # the deck restarts the step count at 0 after the line PRELOAD_MARKER
             wall = liggghts.run(liggghts.INPUTS / "punch.in", workdir, variables, np=ranks,
                                 total_steps=steps, label=f"{name}", dt=setup.dt,
-                                phase_marker=PRELOAD_MARKER)
+                                phase_marker=PRELOAD_MARKER,
+                                marker_seen=None if slow else preloaded)
             results[name] = (workdir, wall, factor)
         except Exception as exc:      # re-raised below, in the caller's thread
             errors.append(exc)

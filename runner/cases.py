@@ -130,6 +130,10 @@ class CaseRunner:
 class PunchCase(CaseRunner):
     """A quasi-static punch (runner/punch.py, inputs/punch.in)."""
 
+    # another case's run/preload.restart to start from (punch.preload_from; set by the study
+    # once that case's pre-load is done; None: pre-load its own)
+    preload_restart = None
+
     def width(self):
         return 2 if self.case["punch.quasi_static_check"] else 1
 
@@ -157,7 +161,7 @@ class PunchCase(CaseRunner):
                        supports=write_supports(c, os.path.join(case_dir, "setup")),
                        **output_options(c))
         facts = punch.run_case(case_dir, c["panel.net"], platter, bending, c.quick, np_,
-                               zones=zones_of(c), **options)
+                               zones=zones_of(c), preload_from=self.preload_restart, **options)
         return dict(facts, bending_source=source)
 
 

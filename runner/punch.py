@@ -35,6 +35,7 @@ Evidence, computed for every case and written to case.json:
 
 import math
 import os
+import shutil
 import threading
 import time
 
@@ -374,18 +375,27 @@ def travel_at(table, times):
 
 PRELOAD_MARKER = "pre-load: centre sag"   # the deck's line after the pre-load (and its restart)
 
+# Cases of a study whose pre-load another case starts from (punch.preload_from; runner/study.py
+# fills it): case folder name -> Event set once its run/preload.restart is written.
+SHARED_PRELOADS = {}
 
-def run_pair(setup, case_dir, np_=1):
+
+def run_pair(setup, case_dir, np_=1, preload_from=None):
     """The case at the chosen rate (case_dir/run) and, when the quasi-static check is on, four
     times slower (case_dir/slow), side by side (two processes sharing the np_ ranks, at least one
     each). The twin does not repeat the pre-load: the run writes run/preload.restart once its
     pre-load is done and the twin starts from it (the same panel to the last bit of the
     restart file). While the run pre-loads alone, the twin's ranks are given back to the study
-    (runner/study.py). Returns their folders and wall times."""
+    (runner/study.py). ``preload_from``: another case's preload.restart that both start from
+    (no pre-load of their own). Returns their folders and wall times."""
     results, errors, done, done_lock = {}, [], [], threading.Lock()
-    preloaded = threading.Event()           # the run's progress scan saw PRELOAD_MARKER
     case_label = liggghts.current_label()   # this thread's; the run and the twin get it too
-    restart = os.path.join(case_dir, "run", "preload.restart")
+    shared = SHARED_PRELOADS.get(case_label)    # another case starts from this one's pre-load
+    # set when the run's progress scan saw PRELOAD_MARKER (the study waits on a shared one)
+    preloaded = shared if shared is not None else threading.Event()
+    restart = preload_from or os.path.join(case_dir, "run", "preload.restart")
+    if preload_from:
+        preloaded.set()
 
     def release(cores):
         if case_label is not None:
@@ -393,7 +403,7 @@ def run_pair(setup, case_dir, np_=1):
 
     def one(name, factor):
         with liggghts.labelled(case_label):
-            if name == "slow" and not wait_for_preload():
+            if name == "slow" and not preload_from and not wait_for_preload():
                 return       # the run failed before its pre-load ended: its error is raised
             run_one(name, factor)
         # the first of the two to finish gives its ranks back to the study
@@ -420,8 +430,10 @@ def run_pair(setup, case_dir, np_=1):
         travel = setup.travel * (setup.slow_travel if slow and not setup.quick else 1.0)
         variables, every = setup.variables(factor, stop_broken=1 if slow else None, travel=travel,
                                            controlled=not slow)
-        if len(threads) > 1:
-            variables.update(dict(preloaded=1, restart=restart) if slow else dict(save_preload=1))
+        if preload_from or (slow and len(threads) > 1):
+            variables.update(preloaded=1, restart=restart)
+        elif len(threads) > 1 or shared is not None:
+            variables.update(save_preload=1)
         steps = setup.expected_steps(travel, factor, controlled=not slow)
         try:
             # the pre-load's length is not known in advance (it relaxes until the sag settles);
@@ -438,7 +450,7 @@ def run_pair(setup, case_dir, np_=1):
     if setup.quasi_static:
         threads.append(threading.Thread(target=one, args=("slow", float(SLOW_FACTOR))))
     ranks = max(np_ // len(threads), 1)
-    if len(threads) > 1:
+    if len(threads) > 1 and not preload_from:
         release(ranks)        # the twin waits for the run's pre-load
     for t in threads:
         t.start()
@@ -446,9 +458,37 @@ def run_pair(setup, case_dir, np_=1):
         t.join()
     if errors:
         raise errors[0]
-    if os.path.isfile(restart):
-        os.remove(restart)    # the pair's own hand-over, no output
+    if preload_from:
+        check_preload_bonds(preload_from, results["run"][0])
+        # the pre-load's record is the source's (the deck wrote a placeholder row)
+        for workdir, _, _ in results.values():
+            shutil.copyfile(os.path.join(os.path.dirname(preload_from), "preload.csv"),
+                            os.path.join(workdir, "preload.csv"))
+    elif shared is None and os.path.isfile(restart):
+        os.remove(restart)    # the pair's own hand-over, no output (a shared one: the study's)
     return results
+
+
+def broken_after_preload(workdir):
+    """Broken bonds on the deck's line after the pre-load (PRELOAD_MARKER) of a run's log."""
+    with open(os.path.join(workdir, "log.lammps"), errors="replace") as fh:
+        for line in fh:
+            if line.startswith(PRELOAD_MARKER) and line.rstrip().endswith("broken bonds)"):
+                return int(float(line.rsplit("(", 1)[1].split()[0]))
+    raise PostprocessError(f"{workdir}/log.lammps: no line '{PRELOAD_MARKER} ...'")
+
+
+def check_preload_bonds(restart, workdir):
+    """A run from another case's pre-load (punch.preload_from) must find its panel as that
+    case left it: a bond of this case's materials that breaks at once (a breakable rope past
+    its strength) would have broken in its own pre-load, which is then not the other's."""
+    source = os.path.dirname(restart)
+    had, has = broken_after_preload(source), broken_after_preload(workdir)
+    if has != had:
+        name = os.path.basename(os.path.dirname(source))
+        raise PostprocessError(f"punch.preload_from: {has - had} bonds break at once on the "
+                               f"pre-loaded panel of {name}: with these materials the pre-load "
+                               "differs; remove punch.preload_from")
 
 
 def largest_speed_factor(table, speed):
@@ -704,12 +744,13 @@ def quasi_static_evidence(fast, slow):
 
 
 def run_case(case_dir, panel, platter, bending=PAPER_BENDING, quick=False, np_=1, zones=ZONES,
-             **setup_options):
-    """One punch case with its quasi-static evidence; returns the facts for case.json."""
+             preload_from=None, **setup_options):
+    """One punch case with its quasi-static evidence; returns the facts for case.json.
+    ``preload_from``: the preload.restart of another case to start from (run_pair)."""
     setup = Setup(os.path.join(case_dir, "setup"), panel, platter, bending, quick,
                   **setup_options)
     start = time.time()
-    runs = run_pair(setup, case_dir, np_)
+    runs = run_pair(setup, case_dir, np_, preload_from)
     run_dir, wall_fast, _ = runs["run"]
     slow_dir, wall_slow, _ = runs.get("slow", (None, None, None))
     fast = read_punch(run_dir)
@@ -728,6 +769,8 @@ def run_case(case_dir, panel, platter, bending=PAPER_BENDING, quick=False, np_=1
                            largest_factor=largest_speed_factor(fast, setup.speed)),
         travel=setup.travel, reached=float(fast["displacement"][-1]),
         peak_force=float(np.max(fast["force"])), preload=preload_facts(run_dir),
+        preload_from=(os.path.basename(os.path.dirname(os.path.dirname(preload_from)))
+                      if preload_from else None),
         first_rupture=rupture,
         rope_strength=list(model.rope_strength(setup.materials)) if setup.rope_strength else None,
         first_rope_rupture=rope_end,

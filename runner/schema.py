@@ -16,6 +16,15 @@ PAPER = "the paper (README: the study WireNet reproduces)"
 MATERIALS_SOURCE = "inputs/include/materials.in (doc/bond_wirenet.md)"
 
 
+# Keys that act only after a punch's pre-load, or on a rope that does not fail during it (the
+# runner checks that none broke: runner/punch.check_preload_bonds): two punch cases that differ
+# in nothing else share their pre-load (punch.preload_from).
+PRELOAD_FREE = ("title", "materials.rope_strength", "materials.rope_sigma_t",
+                "materials.rope_tau_c", "punch.travel", "punch.quasi_static_check",
+                "punch.check_travel", "punch.speed_max", "punch.equilibrium_target",
+                "punch.preload_from", "output.*")
+
+
 @dataclass(frozen=True)
 class Key:
     """One case-file key. ``kind`` limits it to one kind of case; ``default`` may be a dict per
@@ -195,6 +204,11 @@ KEYS = [
     Key("punch.equilibrium_target", "number", 0.004, "", "the gap |R - W - F| / R (edge "
         "reactions R, weight W, platter force F) the speed control aims at",
         "doc/punch.md (equilibrium-controlled loading)", low=0.0, low_open=True, high=0.01,
+        kind="punch"),
+    Key("punch.preload_from", "text", "", "", "another punch case of the same study whose "
+        "pre-loaded panel this case starts from instead of pre-loading its own (the same panel, "
+        "materials, pre-load and time step; only " + ", ".join(PRELOAD_FREE) + " may differ); "
+        "run alone, the case pre-loads its own", "doc/punch.md (a shared pre-load)",
         kind="punch"),
     Key("punch.body", "choice", "analytic", "", "analytic: exact body (fix wirenet/body); mesh: "
         "the generator's STL (facet traps of doc/punch.md)", "doc/fix_wirenet_body.md",

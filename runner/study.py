@@ -21,7 +21,7 @@ import tomllib
 from postprocess import liggghts, report
 from postprocess.output import write_json
 
-from . import casefile, cases
+from . import casefile, cases, punch, schema
 
 INPUTS = liggghts.INPUTS
 CASE_DIR = INPUTS / "cases"
@@ -181,7 +181,40 @@ def load_cases(files, quick, overrides):
     if dup:
         raise StudyError(f"two cases of the study share the name {dup[0]} (case folders must "
                          "differ): rename one case file")
+    check_preload_sources(loaded)
     return loaded
+
+
+def _preload_free(path):
+    return any(path == p or (p.endswith("*") and path.startswith(p[:-1]))
+               for p in schema.PRELOAD_FREE)
+
+
+def check_preload_sources(loaded):
+    """punch.preload_from: the named case, when it is in the study, must be a punch that runs
+    its own pre-load and differs from this one only in keys that act after it
+    (schema.PRELOAD_FREE). A source outside the study is no error: the case then pre-loads its
+    own panel (a case run alone)."""
+    by_name = {c.name: c for c in loaded}
+    for case in loaded:
+        source = case.values.get("punch.preload_from") if case.kind == "punch" else ""
+        if not source or source not in by_name:
+            continue
+        where = f"{case.path}: punch.preload_from"
+        other = by_name[source]
+        if other is case:
+            raise StudyError(f"{where}: names the case itself")
+        if other.kind != "punch":
+            raise StudyError(f"{where}: {source} is a {other.kind} case, not a punch")
+        if other.values.get("punch.preload_from") in by_name:
+            raise StudyError(f"{where}: {source} starts from the pre-load of "
+                             f"{other.values['punch.preload_from']}; name that case instead")
+        for key in sorted(set(case.values) | set(other.values)):
+            if not _preload_free(key) and case.values.get(key) != other.values.get(key):
+                raise StudyError(f"{where}: {source} has {key} = "
+                                 f"{other.values.get(key)!r}, this case {case.values.get(key)!r} "
+                                 "(a shared pre-load needs the same panel, materials, pre-load "
+                                 "and time step)")
 
 
 MAX_RANKS = 4096
@@ -218,6 +251,8 @@ class Job:
         # an impact of a sequence starts from the net the previous one left
         self.after = runner.units()[index - 1][0] if index > 0 else None
         self.ranks = self.cost = 1
+        # the job of this study whose pre-load this punch starts from (punch.preload_from)
+        self.preload_source = None
         self.thread = self.error = self.facts = None
         self.start = self.wall = 0.0
 
@@ -283,6 +318,7 @@ def run_cases(loaded, out, quick, np_):
         else:
             jobs.append(job)
     capacity = _plan(jobs, np_)
+    shared = _share_preloads(jobs)
     liggghts.allow_new_runs()
     pending, running = sorted(jobs, key=lambda j: -_weight(j)), []
     try:
@@ -292,6 +328,8 @@ def run_cases(loaded, out, quick, np_):
                 if used >= capacity:
                     break
                 if job.after is not None and job.after in {j.name for j in pending + running}:
+                    continue
+                if not _preload_ready(job, out, pending + running):
                     continue
                 _launch(job, out, quick)
                 pending.remove(job)
@@ -318,7 +356,42 @@ def run_cases(loaded, out, quick, np_):
     except Interrupted:
         _stop_jobs(running, out, quick)
         raise
+    finally:
+        for name in shared:       # the hand-over of a shared pre-load is no output
+            punch.SHARED_PRELOADS.pop(name, None)
+            restart = os.path.join(out, name, "run", "preload.restart")
+            if os.path.isfile(restart):
+                os.remove(restart)
     return [name for _, _, name, _ in units]
+
+
+def _share_preloads(jobs):
+    """Link each punch whose punch.preload_from names a case that runs in this study to that
+    job, which then keeps its run/preload.restart and announces it (punch.SHARED_PRELOADS).
+    A source already complete from an earlier run left no restart: the case pre-loads its own.
+    Returns the names of the sources."""
+    by_name = {j.name: j for j in jobs}
+    for job in jobs:
+        if job.case.kind == "punch":
+            job.preload_source = by_name.get(job.case.values.get("punch.preload_from"))
+    shared = {j.preload_source.name for j in jobs if j.preload_source is not None}
+    for name in shared:
+        punch.SHARED_PRELOADS[name] = threading.Event()
+    return shared
+
+
+def _preload_ready(job, out, waiting):
+    """Whether a case may start: one that starts from another's pre-load waits until it is
+    written (it holds no core meanwhile); if the source ended without it, it pre-loads its own."""
+    source = job.preload_source
+    if source is None:
+        return True
+    if not punch.SHARED_PRELOADS[source.name].is_set() and source in waiting:
+        return False
+    # (a short source may end before its progress scan saw the line: its restart is kept)
+    restart = os.path.join(out, source.name, "run", "preload.restart")
+    job.runner.preload_restart = restart if os.path.isfile(restart) else None
+    return True
 
 
 def _launch(job, out, quick):

@@ -7,6 +7,8 @@ from tension, not from a rope far below it)."""
 import json
 import math
 import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -42,3 +44,78 @@ def test_rope_tension_before_the_break_is_below_the_tensile_limit(rope_case):
     peak = float(np.max(zone["max"][before]))
     assert peak <= limit * 1.0001, (peak, limit)
     assert peak > 0.5 * limit, (peak, limit)     # the ropes were loaded near their strength
+
+
+CASE_A = '''kind = "punch"
+title = "square cone punch"
+[panel]
+net = "square"
+[punch]
+platter = "cone"
+quasi_static_check = false
+'''
+CASE_B = CASE_A.replace('title = "square cone punch"', 'title = "the same, breakable ropes"') \
+    .replace("[punch]", "[materials]\nrope_strength = true\n[punch]\npreload_from = \"a\"")
+
+
+def _wirenet_run(*args):
+    return subprocess.run([sys.executable, "-P", "-m", "runner", "run", *args], cwd=lmp.ROOT,
+                          capture_output=True, text=True,
+                          env=dict(lmp.MPI_ENV, WIRENET_BUILD=str(lmp.BUILD),
+                                   PYTHONPATH=str(lmp.ROOT), PATH="/usr/bin:/bin"))
+
+
+def test_a_case_from_another_cases_preload_is_the_case_with_its_own(tmp_path):
+    """punch.preload_from: in a study, the breakable-rope case starts from the other case's
+    pre-loaded panel (its restart) instead of pre-loading its own; run alone it pre-loads its
+    own. Both give the same punch.csv to the last digit (the ropes do not fail in the pre-load,
+    and the restart carries the whole panel); the hand-over restart is removed afterwards, and
+    the case's preload.csv is the source's record."""
+    (tmp_path / "a.toml").write_text(CASE_A)
+    (tmp_path / "b.toml").write_text(CASE_B)
+    (tmp_path / "pair.toml").write_text('cases = ["a.toml", "b.toml"]\n')
+    study = _wirenet_run(str(tmp_path / "pair.toml"), "--quick", "--np", "2",
+                         "--out", str(tmp_path / "study"))
+    assert study.returncode == 0, study.stderr
+    alone = _wirenet_run(str(tmp_path / "b.toml"), "--quick", "--np", "1",
+                         "--out", str(tmp_path / "alone"))
+    assert alone.returncode == 0, alone.stderr
+    shared, own = tmp_path / "study" / "b", tmp_path / "alone" / "b"
+    assert "as left in" in (shared / "run" / "log.lammps").read_text()
+    assert "as left in" not in (own / "run" / "log.lammps").read_text()
+    table = (shared / "run" / "punch.csv").read_text()
+    assert len(table.splitlines()) > 10
+    assert table == (own / "run" / "punch.csv").read_text()
+    assert (shared / "run" / "preload.csv").read_text() == \
+        (tmp_path / "study" / "a" / "run" / "preload.csv").read_text()
+    facts = json.loads((shared / "case.json").read_text())
+    assert facts["preload_from"] == "a" and json.loads((own / "case.json").read_text())[
+        "preload_from"] is None
+    assert facts["preload"] == json.loads((own / "case.json").read_text())["preload"]
+    assert not list((tmp_path / "study").glob("*/run/preload.restart"))
+
+
+def test_preload_from_a_case_that_differs_before_the_punch_is_refused(tmp_path):
+    (tmp_path / "a.toml").write_text(CASE_A)
+    (tmp_path / "b.toml").write_text(CASE_B.replace("[punch]", "[damping]\nlocal = 0.5\n[punch]"))
+    (tmp_path / "pair.toml").write_text('cases = ["a.toml", "b.toml"]\n')
+    p = _wirenet_run(str(tmp_path / "pair.toml"), "--quick", "--out", str(tmp_path / "out"))
+    assert p.returncode == 2
+    assert "punch.preload_from: a has damping.local = 0.7" in p.stderr, p.stderr
+    assert not (tmp_path / "out" / "b").exists()
+
+
+def test_preload_from_a_panel_where_ropes_fail_at_once_is_refused(tmp_path):
+    """Rope strength may differ from the source's (it acts only through failures), but a rope
+    that fails at once on the shared panel would have failed in the case's own pre-load: the
+    case stops with one line (runner/punch.check_preload_bonds)."""
+    (tmp_path / "a.toml").write_text(CASE_A)
+    (tmp_path / "b.toml").write_text(CASE_B.replace("rope_strength = true",
+                                                    "rope_strength = true\nrope_sigma_t = 1e3"))
+    (tmp_path / "pair.toml").write_text('cases = ["a.toml", "b.toml"]\n')
+    p = _wirenet_run(str(tmp_path / "pair.toml"), "--quick", "--np", "2",
+                     "--out", str(tmp_path / "out"))
+    assert p.returncode != 0
+    assert "bonds break at once on the pre-loaded panel of a" in p.stderr, p.stderr
+    assert "Traceback" not in p.stderr
+    assert json.loads((tmp_path / "out" / "b" / "case.json").read_text())["status"] == "failed"

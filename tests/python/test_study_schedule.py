@@ -1,7 +1,8 @@
 """The study's scheduler (runner/study.run_cases) with stand-in cases that only sleep: the
 longest cases start first, a case starts on the core a punch gives back when its run or twin
-ends (before the punch ends), the impacts of a sequence wait for each other, and a study on one
-core runs its cases one after the other."""
+ends (before the punch ends), the impacts of a sequence wait for each other, a case that starts
+from another's pre-load waits for it without holding a core, and a study on one core runs its
+cases one after the other."""
 
 import threading
 import time
@@ -9,7 +10,7 @@ import time
 import pytest
 
 from postprocess import liggghts
-from runner import cases, study
+from runner import cases, punch, study
 
 
 class FakeCase:
@@ -41,6 +42,10 @@ class FakeRunner:
         name = self.units()[index][0]
         self._note("start", name)
         time.sleep(0.3)
+        shared = punch.SHARED_PRELOADS.get(name)
+        if shared is not None:       # a source of punch.preload_from: its pre-load is done
+            self._note("preloaded", name)
+            shared.set()
         if self.case.width_ == 2:
             liggghts.release_cores(liggghts.current_label(), 1)
             self._note("release", name)
@@ -93,3 +98,22 @@ def test_a_sequence_waits_and_one_core_runs_one_case_at_a_time(fake, tmp_path):
         assert s2 >= e1                      # one at a time on one core
     start, end = events(fake.log, "start"), events(fake.log, "end")
     assert start["impact_compound_2"] >= end["impact_compound"]
+
+
+def test_a_case_from_anothers_preload_waits_for_it_without_a_core(fake, tmp_path):
+    """punch.preload_from: the rope case starts once the compound punch's pre-load is written,
+    not before and not only at the punch's end; while it waits it holds no core (on 2 cores
+    the impact starts beside the compound punch)."""
+    for np_ in (2, 3):
+        FakeRunner.log = []
+        rope = FakeCase("punch_compound_rope", "punch", "compound")
+        rope.values["punch.preload_from"] = "punch_compound"
+        loaded = [FakeCase("punch_compound", "punch", "compound"), rope,
+                  FakeCase("impact_hex", "impact", "hex")]
+        study.run_cases(loaded, str(tmp_path / str(np_)), quick=True, np_=np_)
+        start, end = events(fake.log, "start"), events(fake.log, "end")
+        ready = events(fake.log, "preloaded")["punch_compound"]
+        assert start["impact_hex"] < ready <= start["punch_compound_rope"]
+        if np_ == 3:       # a free core: it starts at the pre-load, not at the punch's end
+            assert start["punch_compound_rope"] < end["punch_compound"]
+        assert not punch.SHARED_PRELOADS          # the study's hand-over registry is emptied

@@ -96,6 +96,27 @@ def forget_released(label):
         _RELEASED.pop(label, None)
 
 
+# CPU seconds (user + system) of the LIGGGHTS processes that have ended, by case label, with
+# their ranks under mpirun (it waits for them): a study on C cores takes at least their sum / C,
+# and the elapsed time against that sum shows how well the cases filled the cores.
+_CPU = {}
+
+
+def cpu_seconds(label):
+    with _LIVE_LOCK:
+        return _CPU.get(label, 0.0)
+
+
+def forget_cpu(label):
+    with _LIVE_LOCK:
+        _CPU.pop(label, None)
+
+
+def _add_cpu(label, seconds):
+    with _LIVE_LOCK:
+        _CPU[label] = _CPU.get(label, 0.0) + seconds
+
+
 # The case a thread works for: progress lines name it when cases run side by side.
 _CONTEXT = threading.local()
 
@@ -200,12 +221,30 @@ def _follow(proc, workdir, total_steps, label, dt, phase_marker, then=None, mark
     last = time.time()
     progress = Progress(workdir / "log.lammps", total_steps, label, dt, phase_marker, then,
                         marker_seen) if total_steps else None
-    while proc.poll() is None:
+    case = current_label()
+    while _reap(proc, case) is None:
         time.sleep(0.5)
         if progress and time.time() - last > 5:
             last = time.time()
             progress.report()
     return proc.stdout.read()
+
+
+def _reap(proc, case):
+    """proc's exit code once it has ended (reaped here with wait4, which also gives its CPU
+    time and its waited-for children's, counted for the case), else None."""
+    if proc.returncode is not None:
+        return proc.returncode
+    try:
+        pid, status, usage = os.wait4(proc.pid, os.WNOHANG)
+    except ChildProcessError:     # reaped elsewhere (stop(): an interrupted study)
+        return proc.poll()
+    if pid == 0:
+        return None
+    proc.returncode = os.waitstatus_to_exitcode(status)
+    if case is not None:
+        _add_cpu(case, usage.ru_utime + usage.ru_stime)
+    return proc.returncode
 
 
 class Progress:

@@ -78,7 +78,7 @@ def case_summary(case):
         summary["beam"] = [dict(zip(study.TABLES["beam"][1], map(float, row)))
                            for row in zip(*(beam[c] for c in study.TABLES["beam"][1]))]
         summary["beam_max_nrmse"] = _peak_abs(beam["nrmse"])
-    for key in ("first_rupture", "edge_force_peak", "wall_time", "started", "finished", "ended_by",
+    for key in ("first_rupture", "edge_force_peak", "wall_time", "cpu_time", "started", "finished", "ended_by",
                 "first_rope_rupture", "bending", "bending_source", "panel"):
         summary[key] = case.meta.get(key)
     if case.kind == "impact":
@@ -590,6 +590,11 @@ def markdown(directory, summaries, claims, missing, figures, claims_bond=(), dis
         if span is not None:
             lines[-1] += (f" From the first start to the last end: {span:.0f} s ({span / 60:.1f} "
                           "min; cases that ran side by side overlap).")
+        cpus = [s["cpu_time"] for s in summaries.values()
+                if isinstance(s.get("cpu_time"), (int, float))]
+        if span and len(cpus) == len(walls):
+            lines[-1] += (f" CPU time of their LIGGGHTS processes: {sum(cpus):.0f} core-seconds, "
+                          f"{sum(cpus) / span:.2f} cores busy on average over that span.")
     endings = [f"- {n}: ended by {s['ended_by']}" +
                (f" at {fmt(s['first_rope_rupture']['displacement'])} m of platter travel"
                 if s.get("first_rope_rupture") else "")

@@ -341,6 +341,8 @@ def run_cases(loaded, out, quick, np_):
             for job in [j for j in running if not j.thread.is_alive()]:
                 running.remove(job)
                 liggghts.forget_released(job.name)
+                cpu = liggghts.cpu_seconds(job.name)
+                liggghts.forget_cpu(job.name)
                 if job.error is not None:
                     pending.clear()
                     _stop_jobs(running, out, quick)
@@ -350,7 +352,7 @@ def run_cases(loaded, out, quick, np_):
                 # start and end (Unix time): cases side by side overlap, so the study's
                 # elapsed time is the span of these, not the sum of the wall times
                 _write_meta(os.path.join(out, job.name), job.meta(
-                    quick, status="ok", wall_time=job.wall, started=job.start,
+                    quick, status="ok", wall_time=job.wall, cpu_time=cpu, started=job.start,
                     finished=job.start + job.wall, **job.facts))
                 print(f"{job.prefix}: done in {job.wall:.1f} s", flush=True)
     except Interrupted:

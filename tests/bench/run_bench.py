@@ -316,21 +316,28 @@ def study_table(folder):
     if folder is None or not Path(folder).is_dir():
         return ("Study wall times: no study folder (run `./wirenet run` first, or give "
                 "`--study DIR`).")
-    rows, total, metas = [], 0.0, []
+    rows, total, cpu_total, metas = [], 0.0, 0.0, []
     for meta_path in sorted(Path(folder).glob("*/case.json")):
         meta = json.loads(meta_path.read_text())
         metas.append(meta)
-        wall = meta.get("wall_time")
+        wall, cpu = meta.get("wall_time"), meta.get("cpu_time")
         timed = isinstance(wall, (int, float))
         total += wall if timed else 0.0
+        cpu_total += cpu if isinstance(cpu, (int, float)) else 0.0
         rows.append(f"| {meta_path.parent.name} | {meta.get('mode', '?')} | {meta.get('status', '?')} | "
-                    f"{meta.get('np', '?')} | {f'{wall:.0f}' if timed else 'n/a'} |")
-    return "\n".join([f"Study `{shown(folder)}` (each case as its case.json records it, whenever it ran):", "",
-                      "| case | mode | status | ranks | wall time [s] |", "|---|---|---|---|---|",
-                      *rows, f"| **total** | | | | **{total:.0f}** ({total / 60:.1f} min) |",
-                      *([] if report.elapsed(metas) is None else
+                    f"{meta.get('np', '?')} | {f'{wall:.0f}' if timed else 'n/a'} | "
+                    f"{f'{cpu:.0f}' if isinstance(cpu, (int, float)) else 'n/a'} |")
+    span = report.elapsed(metas)
+    return "\n".join([f"Study `{shown(folder)}` (each case as its case.json records it, whenever it ran; "
+                      "CPU: its LIGGGHTS processes, all ranks):", "",
+                      "| case | mode | status | ranks | wall time [s] | CPU [core-s] |",
+                      "|---|---|---|---|---|---|",
+                      *rows, f"| **total** | | | | **{total:.0f}** ({total / 60:.1f} min) | "
+                      f"**{cpu_total:.0f}** |",
+                      *([] if span is None else
                         [f"| **elapsed**, first start to last end (cases side by side) | | | | "
-                         f"**{report.elapsed(metas):.0f}** ({report.elapsed(metas) / 60:.1f} min) |"])])
+                         f"**{span:.0f}** ({span / 60:.1f} min) | {cpu_total / span:.2f} cores "
+                         "busy on average |"])])
 
 
 def yade_table(y):

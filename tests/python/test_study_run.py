@@ -30,6 +30,9 @@ def test_quick_study_end_to_end(tmp_path):
         folder = out / name
         meta = json.loads((folder / "case.json").read_text())
         if meta["status"] == "ok":
+            # the CPU time of its LIGGGHTS processes (all ranks): some, and no more than its
+            # ranks could spend in its wall time
+            assert 0 < meta["cpu_time"] <= meta["wall_time"] * meta["np"] * 1.05 + 0.5, name
             csvs = [f for f in HEADERS if (folder / f).is_file()]
             assert csvs, name
             for f in csvs:
@@ -38,6 +41,7 @@ def test_quick_study_end_to_end(tmp_path):
             assert meta["status"] == "not-implemented" and name in summary["not_implemented"]
             assert not any((folder / f).exists() for f in HEADERS)  # nothing faked
     assert summary["cases"]["beam"]["status"] == "ok"
+    assert "core-seconds" in (out / "report.md").read_text()
     # a second run in the same mode resumes: the finished case is skipped
     p = run_study(out, "beam", "--quick")
     assert p.returncode == 0 and "complete, skipped" in p.stdout

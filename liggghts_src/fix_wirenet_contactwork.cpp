@@ -143,12 +143,24 @@ void FixWirenetContactWork::end_of_step()
   if (nheld != atom->nlocal) error->one(FLERR, "fix wirenet/contactwork: atoms changed between force and end of step");
   const double dt = update->dt;
   double **v = atom->v, **w = rotational ? atom->omega : NULL;
-  for (int i = 0; i < nheld; i++) {
-    const double *s = &snap[6 * (size_t)i];
-    sums_mine[0] += dt * (s[0] * v[i][0] + s[1] * v[i][1] + s[2] * v[i][2]);
-    if (w) sums_mine[1] += dt * (s[3] * w[i][0] + s[4] * w[i][1] + s[5] * w[i][2]);
-    for (int k = 0; k < 3; k++) sums_mine[2 + k] += dt * s[k];
+  // this step's sums in registers, then added to the totals (a member sum would be stored and
+  // reloaded at every atom: a chain through memory; the totals' last digits differ from an
+  // atom-by-atom sum, as in fix wirenet/damping)
+  double work_f = 0.0, work_t = 0.0, jx = 0.0, jy = 0.0, jz = 0.0;
+  const double *s = snap.data();
+  for (int i = 0; i < nheld; i++, s += 6) {
+    const double *vi = v[i];
+    work_f += s[0] * vi[0] + s[1] * vi[1] + s[2] * vi[2];
+    if (w) work_t += s[3] * w[i][0] + s[4] * w[i][1] + s[5] * w[i][2];
+    jx += s[0];
+    jy += s[1];
+    jz += s[2];
   }
+  sums_mine[0] += dt * work_f;
+  sums_mine[1] += dt * work_t;
+  sums_mine[2] += dt * jx;
+  sums_mine[3] += dt * jy;
+  sums_mine[4] += dt * jz;
   nheld = -1;
 }
 

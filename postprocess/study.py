@@ -95,7 +95,7 @@ class Case:
 # case.json keys the readers use, with the JSON types they accept (null = not recorded).
 BENDING_KEYS = ("bending", "bending_fraction", "bending_ratio")
 TEXT_KEYS = ("status", "kind")
-NUMBER_KEYS = ("wall_time", "edge_force_peak", "broken_bonds", "max_displacement",
+NUMBER_KEYS = ("wall_time", "cpu_time", "edge_force_peak", "broken_bonds", "max_displacement",
                "rebound_time", "peak_block_force", "np")
 OBJECT_KEYS = ("energy", "momentum", "quasi_static")
 NESTED_NUMBER_KEYS = {               # numbers (or null) inside those objects that are reported

@@ -209,6 +209,10 @@ def case_json_wall_time(work):
     (work / "study" / "punch_hex" / "case.json").write_text('{"wall_time": "3 s"}')
 
 
+def case_json_cpu_time(work):
+    (work / "study" / "punch_hex" / "case.json").write_text('{"cpu_time": [3]}')
+
+
 def zone_csv_missing_column(work):
     edit(work / "study" / "punch_hex" / "zone_forces.csv", "max_tension,", "peak,")
 
@@ -365,6 +369,8 @@ CASES = [
      "punch_hex/case.json: 'energy' must be an object {...} or null, got a number 5"),
     ("report-case-json-wall-time", case_json_wall_time, ["report", STUDY],
      "punch_hex/case.json: 'wall_time' must be a number or null, got a string '3 s'"),
+    ("report-case-json-cpu-time", case_json_cpu_time, ["report", STUDY, "--no-figures"],
+     "punch_hex/case.json: 'cpu_time' must be a number or null, got a list [3]"),
     ("report-bending-text", bending_text, ["report", STUDY],
      "calib_1/case.json: 'bending' must be a number >= 0, got a string 'abc'"),
     ("report-case-json-quasi-static", case_json_quasi_static, ["report", STUDY, "--no-figures"],

@@ -76,45 +76,52 @@ def allow_new_runs():
     _STOPPED.clear()
 
 
+class _PerCase:
+    """A number per case label, kept for the study's thread by the case threads."""
+
+    def __init__(self):
+        self.values = {}
+
+    def add(self, label, amount):
+        with _LIVE_LOCK:
+            self.values[label] = self.values.get(label, 0) + amount
+
+    def get(self, label):
+        with _LIVE_LOCK:
+            return self.values.get(label, 0)
+
+    def forget(self, label):
+        with _LIVE_LOCK:
+            self.values.pop(label, None)
+
+
 # Cores a case gives back before it ends (a punch whose run or twin has finished while the other
-# goes on), by case label: the study's scheduler may start another case on them.
-_RELEASED = {}
+# goes on): the study's scheduler may start another case on them.
+_RELEASED = _PerCase()
+# CPU seconds (user + system) of the LIGGGHTS processes that have ended, with their ranks under
+# mpirun (it waits for them): a study on C cores takes at least their sum / C, and the elapsed
+# time against that sum shows how well the cases filled the cores.
+_CPU = _PerCase()
 
 
 def release_cores(label, cores):
-    with _LIVE_LOCK:
-        _RELEASED[label] = _RELEASED.get(label, 0) + cores
+    _RELEASED.add(label, cores)
 
 
 def released_cores(label):
-    with _LIVE_LOCK:
-        return _RELEASED.get(label, 0)
+    return _RELEASED.get(label)
 
 
 def forget_released(label):
-    with _LIVE_LOCK:
-        _RELEASED.pop(label, None)
-
-
-# CPU seconds (user + system) of the LIGGGHTS processes that have ended, by case label, with
-# their ranks under mpirun (it waits for them): a study on C cores takes at least their sum / C,
-# and the elapsed time against that sum shows how well the cases filled the cores.
-_CPU = {}
+    _RELEASED.forget(label)
 
 
 def cpu_seconds(label):
-    with _LIVE_LOCK:
-        return _CPU.get(label, 0.0)
+    return float(_CPU.get(label))
 
 
 def forget_cpu(label):
-    with _LIVE_LOCK:
-        _CPU.pop(label, None)
-
-
-def _add_cpu(label, seconds):
-    with _LIVE_LOCK:
-        _CPU[label] = _CPU.get(label, 0.0) + seconds
+    _CPU.forget(label)
 
 
 # The case a thread works for: progress lines name it when cases run side by side.
@@ -243,7 +250,7 @@ def _reap(proc, case):
         return None
     proc.returncode = os.waitstatus_to_exitcode(status)
     if case is not None:
-        _add_cpu(case, usage.ru_utime + usage.ru_stime)
+        _CPU.add(case, usage.ru_utime + usage.ru_stime)
     return proc.returncode
 
 

@@ -394,8 +394,6 @@ def run_pair(setup, case_dir, np_=1, preload_from=None):
     # set when the run's progress scan saw PRELOAD_MARKER (the study waits on a shared one)
     preloaded = shared if shared is not None else threading.Event()
     restart = preload_from or os.path.join(case_dir, "run", "preload.restart")
-    if preload_from:
-        preloaded.set()
 
     def release(cores):
         if case_label is not None:
@@ -469,6 +467,11 @@ def run_pair(setup, case_dir, np_=1, preload_from=None):
     return results
 
 
+def restart_case(restart):
+    """The case folder name of a case's run/preload.restart."""
+    return os.path.basename(os.path.dirname(os.path.dirname(restart)))
+
+
 def broken_after_preload(workdir):
     """Broken bonds on the deck's line after the pre-load (PRELOAD_MARKER) of a run's log."""
     with open(os.path.join(workdir, "log.lammps"), errors="replace") as fh:
@@ -482,13 +485,11 @@ def check_preload_bonds(restart, workdir):
     """A run from another case's pre-load (punch.preload_from) must find its panel as that
     case left it: a bond of this case's materials that breaks at once (a breakable rope past
     its strength) would have broken in its own pre-load, which is then not the other's."""
-    source = os.path.dirname(restart)
-    had, has = broken_after_preload(source), broken_after_preload(workdir)
+    had, has = broken_after_preload(os.path.dirname(restart)), broken_after_preload(workdir)
     if has != had:
-        name = os.path.basename(os.path.dirname(source))
         raise PostprocessError(f"punch.preload_from: {has - had} bonds break at once on the "
-                               f"pre-loaded panel of {name}: with these materials the pre-load "
-                               "differs; remove punch.preload_from")
+                               f"pre-loaded panel of {restart_case(restart)}: with these "
+                               "materials the pre-load differs; remove punch.preload_from")
 
 
 def largest_speed_factor(table, speed):
@@ -769,8 +770,7 @@ def run_case(case_dir, panel, platter, bending=PAPER_BENDING, quick=False, np_=1
                            largest_factor=largest_speed_factor(fast, setup.speed)),
         travel=setup.travel, reached=float(fast["displacement"][-1]),
         peak_force=float(np.max(fast["force"])), preload=preload_facts(run_dir),
-        preload_from=(os.path.basename(os.path.dirname(os.path.dirname(preload_from)))
-                      if preload_from else None),
+        preload_from=restart_case(preload_from) if preload_from else None,
         first_rupture=rupture,
         rope_strength=list(model.rope_strength(setup.materials)) if setup.rope_strength else None,
         first_rope_rupture=rope_end,

@@ -198,14 +198,18 @@ def check_preload_sources(loaded):
     by_name = {c.name: c for c in loaded}
     for case in loaded:
         source = case.values.get("punch.preload_from") if case.kind == "punch" else ""
-        if not source or source not in by_name:
+        if not source:
+            continue
+        if source not in by_name:       # said, not refused: a typo would go unnoticed
+            print(f"{case.name}: punch.preload_from: {source} is not in this run; the case "
+                  "pre-loads its own panel", flush=True)
             continue
         where = f"{case.path}: punch.preload_from"
         other = by_name[source]
         if other is case:
             raise StudyError(f"{where}: names the case itself")
         if other.kind != "punch":
-            raise StudyError(f"{where}: {source} is a {other.kind} case, not a punch")
+            raise StudyError(f"{where}: {source} is not a punch (kind = {other.kind!r})")
         if other.values.get("punch.preload_from") in by_name:
             raise StudyError(f"{where}: {source} starts from the pre-load of "
                              f"{other.values['punch.preload_from']}; name that case instead")
@@ -329,8 +333,10 @@ def run_cases(loaded, out, quick, np_):
                     break
                 if job.after is not None and job.after in {j.name for j in pending + running}:
                     continue
-                if not _preload_ready(job, out, pending + running):
+                if _waits_for_preload(job, pending + running):
                     continue
+                if job.preload_source is not None:
+                    job.runner.preload_restart = _shared_restart(job, out)
                 _launch(job, out, quick)
                 pending.remove(job)
                 running.append(job)
@@ -382,18 +388,20 @@ def _share_preloads(jobs):
     return shared
 
 
-def _preload_ready(job, out, waiting):
-    """Whether a case may start: one that starts from another's pre-load waits until it is
-    written (it holds no core meanwhile); if the source ended without it, it pre-loads its own."""
+def _waits_for_preload(job, waiting):
+    """A case that starts from another's pre-load waits (holding no core) while that case is
+    pending or running and has not written it yet."""
     source = job.preload_source
-    if source is None:
-        return True
-    if not punch.SHARED_PRELOADS[source.name].is_set() and source in waiting:
-        return False
-    # (a short source may end before its progress scan saw the line: its restart is kept)
-    restart = os.path.join(out, source.name, "run", "preload.restart")
-    job.runner.preload_restart = restart if os.path.isfile(restart) else None
-    return True
+    return (source is not None and source in waiting and
+            not punch.SHARED_PRELOADS[source.name].is_set())
+
+
+def _shared_restart(job, out):
+    """The source's preload.restart once the case may start; None if the source ended without
+    one (the case pre-loads its own). A short source may end before its progress scan saw the
+    line after its pre-load: its restart is kept all the same."""
+    restart = os.path.join(out, job.preload_source.name, "run", "preload.restart")
+    return restart if os.path.isfile(restart) else None
 
 
 def _launch(job, out, quick):

@@ -119,3 +119,39 @@ def test_preload_from_a_panel_where_ropes_fail_at_once_is_refused(tmp_path):
     assert "bonds break at once on the pre-loaded panel of a" in p.stderr, p.stderr
     assert "Traceback" not in p.stderr
     assert json.loads((tmp_path / "out" / "b" / "case.json").read_text())["status"] == "failed"
+
+
+CASE_C = CASE_B.replace('preload_from = "a"', 'preload_from = "b"')
+REFUSED = [
+    ("itself", {"b.toml": CASE_B.replace('preload_from = "a"', 'preload_from = "b"')},
+     "punch.preload_from: names the case itself"),
+    ("not a punch", {"a.toml": 'kind = "impact"\n[panel]\nnet = "square"\n'},
+     "punch.preload_from: a is not a punch (kind = 'impact')"),
+    ("a chain", {"c.toml": CASE_C}, "punch.preload_from: b starts from the pre-load of a; "
+     "name that case instead"),
+]
+
+
+@pytest.mark.parametrize("files,message", [r[1:] for r in REFUSED], ids=[r[0] for r in REFUSED])
+def test_a_bad_preload_source_is_refused_before_anything_runs(tmp_path, files, message):
+    """The study checks punch.preload_from before any case runs: one line, exit 2, no folder."""
+    cases = {"a.toml": CASE_A, "b.toml": CASE_B, **files}
+    for name, text in cases.items():
+        (tmp_path / name).write_text(text)
+    (tmp_path / "all.toml").write_text(f"cases = {sorted(cases)!r}\n".replace("'", '"'))
+    p = _wirenet_run(str(tmp_path / "all.toml"), "--quick", "--out", str(tmp_path / "out"))
+    assert p.returncode == 2, p.stderr
+    assert message in p.stderr, p.stderr
+    assert len(p.stderr.strip().splitlines()) == 1
+    assert not list((tmp_path / "out").glob("*/case.json"))
+
+
+def test_a_source_outside_the_run_is_said_and_the_case_preloads_its_own(tmp_path):
+    """A case run alone (or a misspelt source) pre-loads its own panel, and the run says so."""
+    (tmp_path / "b.toml").write_text(CASE_B.replace('preload_from = "a"', 'preload_from = "ax"'))
+    p = _wirenet_run(str(tmp_path / "b.toml"), "--quick", "--np", "1", "--out",
+                     str(tmp_path / "out"))
+    assert p.returncode == 0, p.stderr
+    assert "b: punch.preload_from: ax is not in this run; the case pre-loads its own panel" \
+        in p.stdout
+    assert "as left in" not in (tmp_path / "out" / "b" / "run" / "log.lammps").read_text()

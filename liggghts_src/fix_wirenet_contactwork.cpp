@@ -96,7 +96,7 @@ void FixWirenetContactWork::post_force(int)
 {
   const int nlocal = atom->nlocal;
   double **f = atom->f, **t = rotational ? atom->torque : NULL;
-  snap.resize(6 * (size_t)nlocal);
+  if (!is_pair) snap.resize(6 * (size_t)nlocal);
   if (is_mark) {
     for (int i = 0; i < nlocal; i++) {
       double *s = &snap[6 * (size_t)i];
@@ -109,13 +109,10 @@ void FixWirenetContactWork::post_force(int)
   }
   const int *mask = atom->mask;
   if (is_pair) {
-    // the pair forces: force and torque when the bond style started, before any bond force
-    const std::vector<double> &pair = bonds->pair_forces();
-    if (pair.size() != snap.size())
+    // the pair forces (force and torque when the bond style started, before any bond force)
+    // stay in the bond fix until the end of the step: summed from there, not copied
+    if (bonds->pair_forces().size() != 6 * (size_t)nlocal)
       error->one(FLERR, "fix wirenet/contactwork pair: no pair forces taken this step (atoms changed?)");
-    for (int i = 0; i < nlocal; i++)
-      for (int k = 0; k < 6; k++)
-        snap[6 * (size_t)i + k] = (mask[i] & groupbit) ? pair[6 * (size_t)i + k] : 0.0;
     nheld = nlocal;
     return;
   }
@@ -147,8 +144,12 @@ void FixWirenetContactWork::end_of_step()
   // reloaded at every atom: a chain through memory; the totals' last digits differ from an
   // atom-by-atom sum, as in fix wirenet/damping)
   double work_f = 0.0, work_t = 0.0, jx = 0.0, jy = 0.0, jz = 0.0;
-  const double *s = snap.data();
+  // 'since' zeroed the increments of atoms outside the group; 'pair' reads the bond fix's record
+  const double *s = is_pair ? bonds->pair_forces().data() : snap.data();
+  const int *mask = atom->mask;
+  const int masked = is_pair && igroup != 0;  // group all: every atom counts
   for (int i = 0; i < nheld; i++, s += 6) {
+    if (masked && !(mask[i] & groupbit)) continue;
     const double *vi = v[i];
     work_f += s[0] * vi[0] + s[1] * vi[1] + s[2] * vi[2];
     if (w) work_t += s[3] * w[i][0] + s[4] * w[i][1] + s[5] * w[i][2];

@@ -186,6 +186,7 @@ class ImpactCase(CaseRunner):
         options = dict(common_options(c), mass=item["mass"], side=item["side"],
                        velocity=item["velocity"], point=item["point"], quat=item["orientation"],
                        duration=item["duration"], body_model=item["body"],
+                       dt_fraction=item["dt_fraction"],
                        stl=item["stl"] or None, relax=settle,
                        supports=write_supports(c, os.path.join(case_dir, "setup")),
                        restart=previous, save_net=index + 1 < len(c.impacts),

@@ -98,7 +98,7 @@ class Setup:
                  width=None, height=None, gen_options=(), supports=None, gravity=G,
                  velocity=None, point=(0.0, 0.0), quat=(1.0, 0.0, 0.0, 0.0), stl=None,
                  materials=None, restart=None, save_net=False, row_time=OUTPUT_INTERVAL,
-                 dump_rows=DUMP_ROWS, frames=FRAMES, zones=punch.ZONES):
+                 dump_rows=DUMP_ROWS, frames=FRAMES, zones=punch.ZONES, dt_fraction=DT_SAFETY):
         velocity = (0.0, 0.0, -speed) if velocity is None else tuple(float(v) for v in velocity)
         if not (mass > 0 and side > 0 and np.linalg.norm(velocity) > 0):
             raise PostprocessError(f"impact: mass, side and speed must be > 0 (got {mass}, "
@@ -137,7 +137,10 @@ class Setup:
         self.layers = 2 if self.meta.get("kind") == "compound" else 1
         # the same stable step as the punch cases (bonds + the 1e9 N/m contact on the lightest
         # node), halved
-        self.dt = DT_SAFETY * punch.stable_dt(data, bending, self.layers, platter=True,
+        if not 0 < dt_fraction <= 1:
+            raise PostprocessError(f"impact: dt_fraction must be in (0, 1] (got {dt_fraction})")
+        self.dt_fraction = float(dt_fraction)
+        self.dt = dt_fraction * punch.stable_dt(data, bending, self.layers, platter=True,
                                               materials=self.materials)
         _, self.node_r = punch.centre_node(data, self.meta)
         self.node_masses = punch.node_masses(data)
@@ -381,7 +384,7 @@ def run_case(case_dir, panel, bending=PAPER_BENDING, quick=False, np_=1, zones=p
                  body_model=setup.body_model, damping=setup.alpha, bond_damping=setup.bond_zeta,
                  dissipation="bond" if setup.bond_zeta else "local",
                  rope_strength=list(model.rope_strength(setup.materials)) if setup.rope_strength else None,
-                 dt=setup.dt, steps=setup.steps,
+                 dt=setup.dt, dt_fraction=setup.dt_fraction, steps=setup.steps,
                  duration=setup.duration, relax_time=setup.relax_time,
                  relax_steps=setup.relax_steps, nodes=int(len(setup.node_masses)),
                  net_mass=float(np.sum(setup.node_masses)), run_wall_time=wall,

@@ -232,6 +232,10 @@ KEYS = [
         per_item=True),
     Key("impact.duration", "number", 1.0, "s", "simulated time after release", PAPER, low=0.0,
         low_open=True, kind="impact", quick=0.06, per_item=True),
+    Key("impact.dt_fraction", "number", impact.DT_SAFETY, "", "time step as a fraction of the "
+        "stable step with the true masses (punch.stable_dt: the bonds and the contact on the "
+        "lightest node, neighbours in antiphase)", "doc/impact.md (\"Time step\")",
+        low=0.0, low_open=True, high=1.0, kind="impact", per_item=True),
     Key("impact.body", "choice", "analytic", "", "analytic: exact truncated cube (fix "
         "wirenet/body); mesh: the STL moved by fix wirenet/rigidmesh",
         "doc/fix_wirenet_body.md", choices=("analytic", "mesh"), kind="impact", per_item=True),

@@ -100,7 +100,7 @@ def test_defaults_are_the_papers():
     assert impact.impacts == [dict(block="truncated-cube", stl="", side=0.45, mass=44.5,
                                    velocity=[0.0, 0.0, -10.0], point=[0.0, 0.0],
                                    orientation=[1.0, 0.0, 0.0, 0.0], duration=1.0,
-                                   body="analytic")]
+                                   dt_fraction=0.5, body="analytic")]
     assert impact.zones == [dict(name="centre", centre=[0.0, 0.0], radius=1.0)]
     quick = check('kind = "impact"\n', quick=True)
     assert quick["panel.width"] == 1.2 and quick.impacts[0]["duration"] == 0.06

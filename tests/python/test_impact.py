@@ -272,6 +272,20 @@ def test_bad_impact_arguments(tmp_path):
     assert len(p.stderr.strip().splitlines()) == 1
 
 
+def test_time_step_is_the_asked_fraction_of_the_stable_step(tmp_path):
+    """impact.dt_fraction scales the one stable-step estimate (punch.stable_dt) and nothing
+    else: the steps follow the duration; outside (0, 1] is refused with the key's name."""
+    half = impact.Setup(str(tmp_path / "a"), "square", quick=True, dt_fraction=0.5)
+    whole = impact.Setup(str(tmp_path / "b"), "square", quick=True, dt_fraction=1.0)
+    assert whole.dt == pytest.approx(2 * half.dt, rel=1e-15)
+    assert whole.steps == math.ceil(whole.duration / whole.dt)
+    with pytest.raises(PostprocessError, match=r"dt_fraction must be in \(0, 1\]"):
+        impact.Setup(str(tmp_path / "c"), "square", quick=True, dt_fraction=1.5)
+    from runner import casefile
+    with pytest.raises(casefile.CaseFileError, match="impact.dt_fraction: must be <= 1"):
+        casefile.parse('kind = "impact"\n[impact]\ndt_fraction = 1.2\n')
+
+
 def test_undamped_impact_momentum_is_carried_by_the_supports(tmp_path):
     """Without local damping (alpha 0) nothing but the supports and gravity acts on block + net
     from outside: their impulses alone equal the change of momentum, and the elastic rope net

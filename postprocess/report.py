@@ -37,6 +37,15 @@ def _peak_where(values, times, displacements):
     return float(values[index]), float(times[index]), float(displacements[index])
 
 
+def _drop_words(drop):
+    """How punch.stop_drop ended a run, for the report's list of endings ('' if it did not)."""
+    if not isinstance(drop, dict):
+        return ""
+    return (f"; stopped at {fmt(drop.get('displacement'))} m, the force down to "
+            f"{fmt(drop.get('force'))} N from its peak {fmt(drop.get('peak_force'))} N "
+            "(punch.stop_drop)")
+
+
 def zone_peaks(case):
     """{family: peak total / max tension, their times and displacements} of a case's
     zone_forces.csv."""
@@ -79,7 +88,7 @@ def case_summary(case):
                            for row in zip(*(beam[c] for c in study.TABLES["beam"][1]))]
         summary["beam_max_nrmse"] = _peak_abs(beam["nrmse"])
     for key in ("first_rupture", "edge_force_peak", "wall_time", "cpu_time", "started", "finished", "ended_by",
-                "first_rope_rupture", "bending", "bending_source", "panel"):
+                "first_rope_rupture", "ended_at_drop", "bending", "bending_source", "panel"):
         summary[key] = case.meta.get(key)
     if case.kind == "impact":
         energy = case.meta.get("energy") or {}
@@ -597,7 +606,7 @@ def markdown(directory, summaries, claims, missing, figures, claims_bond=(), dis
                           f"{sum(cpus) / span:.2f} cores busy on average over that span.")
     endings = [f"- {n}: ended by {s['ended_by']}" +
                (f" at {fmt(s['first_rope_rupture']['displacement'])} m of platter travel"
-                if s.get("first_rope_rupture") else "")
+                if s.get("first_rope_rupture") else "") + _drop_words(s.get("ended_at_drop"))
                for n, s in summaries.items() if s.get("ended_by")]
     if endings:
         lines += ["", "How each punch ended (rope strength: doc/bond_wirenet.md):", ""] + endings

@@ -97,13 +97,14 @@ BENDING_KEYS = ("bending", "bending_fraction", "bending_ratio")
 TEXT_KEYS = ("status", "kind")
 NUMBER_KEYS = ("wall_time", "cpu_time", "edge_force_peak", "broken_bonds", "max_displacement",
                "rebound_time", "peak_block_force", "np")
-OBJECT_KEYS = ("energy", "momentum", "quasi_static")
+OBJECT_KEYS = ("energy", "momentum", "quasi_static", "ended_at_drop")
 NESTED_NUMBER_KEYS = {               # numbers (or null) inside those objects that are reported
     "energy": ("closure_error",),
     "momentum": ("error",),
     "quasi_static": ("slow_factor", "curve_difference", "compared_up_to",
                      "kinetic_energy_fraction", "equilibrium_error",
                      "equilibrium_error_of_current", "equilibrium_holds_from"),
+    "ended_at_drop": ("displacement", "force", "peak_force"),
 }
 
 
@@ -148,7 +149,7 @@ def read_case_meta(path):
     Errors (PostprocessError naming the file and the key): not JSON, truncated, not an object,
     a bending fraction that is not a finite number >= 0, status / kind that are not text,
     a recorded number (wall_time, edge_force_peak, ...) that is not a number, energy /
-    momentum / quasi_static that are not objects (or whose reported numbers are not numbers), a
+    momentum / quasi_static / ended_at_drop that are not objects (or whose reported numbers are not numbers), a
     first_rupture that is neither a number nor an object with numbers. NaN / Infinity elsewhere
     read as null (not available).
     """

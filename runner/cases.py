@@ -155,6 +155,7 @@ class PunchCase(CaseRunner):
                        slow_travel=c["punch.check_travel"], body_model=c["punch.body"],
                        speed_max=c["punch.speed_max"],
                        eq_target=c["punch.equilibrium_target"],
+                       stop_drop=c["punch.stop_drop"],
                        contact_zeta=c["contact.zeta"],
                        preload_mode={"sag": 2, "settle": 1, "none": 0}[c["preload.mode"]],
                        preload=c["preload.sag"],

@@ -218,7 +218,7 @@ class Setup:
                  mass_scaling=True, shape=None, position=(0.0, 0.0), alpha=ALPHA,
                  contact_zeta=CONTACT_ZETA, slow_travel=None, quasi_static=True, materials=None,
                  bond_zeta=0.0, row_travel=ROW_TRAVEL, dump_rows=DUMP_ROWS, frames=FRAMES,
-                 speed_max=None, eq_target=EQ_TARGET):
+                 speed_max=None, eq_target=EQ_TARGET, stop_drop=0.0):
         self.body_model = check_body_model(body_model or DEFAULT_BODY.get(platter, "analytic"))
         os.makedirs(workdir, exist_ok=True)
         self.panel, self.platter, self.bending, self.quick = panel, platter, bending, quick
@@ -274,6 +274,9 @@ class Setup:
             self.steps_per_m = 1.0 / (self.speed * self.dt)
         self.dt_preload = max(self.dt, self.dt_safety * dt_pre_true * math.sqrt(self.mass_scale))
         self.stop_broken = stop_broken
+        if not 0.0 <= stop_drop < 1.0:
+            raise PostprocessError(f"punch: stop_drop must be in [0, 1) (got {stop_drop})")
+        self.stop_drop = float(stop_drop)   # end at this fraction of the peak after a rupture
         # viscous normal contact damping (mass-specific, 1/s): contact_zeta of critical for the
         # lightest (scaled) node on the platter; it damps the ringing of a node riding on the
         # platter, which local damping leaves alone (doc/punch.md), and vanishes at rest
@@ -344,6 +347,7 @@ class Setup:
                  platter_x=repr(float(self.platter_xy[0])), platter_y=repr(float(self.platter_xy[1])),
                  speed_max=repr(self.speed_max if controlled else 1.0),
                  speed_from=repr(self.speed_from), eq_target=repr(self.eq_target),
+                 stop_drop=repr(self.stop_drop),
                  frame_every=max(int(math.ceil(self.expected_steps(
                      travel or self.travel, speed_factor, controlled) / self.frames)), 1))
         if self.supports:     # {deck variable: include file} of runner/cases.write_supports
@@ -479,6 +483,29 @@ def broken_after_preload(workdir):
             if line.startswith(PRELOAD_MARKER) and line.rstrip().endswith("broken bonds)"):
                 return int(float(line.rsplit("(", 1)[1].split()[0]))
     raise PostprocessError(f"{workdir}/log.lammps: no line '{PRELOAD_MARKER} ...'")
+
+
+DROP_MARKER = "punch: ended by the drop:"   # the deck's line when punch.stop_drop ends a run
+
+
+def drop_end(workdir):
+    """Where punch.stop_drop ended the run (the deck's DROP_MARKER line): {displacement, force,
+    peak_force}, or None if the run went on to the end of its travel."""
+    with open(os.path.join(workdir, "log.lammps"), errors="replace") as fh:
+        for line in fh:
+            if line.startswith(DROP_MARKER):
+                numbers = [float(w) for w in line.split() if _is_number(w)]
+                # force, stop_drop, peak force, displacement in the order of the line
+                return dict(displacement=numbers[3], force=numbers[0], peak_force=numbers[2])
+    return None
+
+
+def _is_number(word):
+    try:
+        float(word)
+    except ValueError:
+        return False
+    return True
 
 
 def check_preload_bonds(restart, workdir):
@@ -776,6 +803,7 @@ def run_case(case_dir, panel, platter, bending=PAPER_BENDING, quick=False, np_=1
         first_rope_rupture=rope_end,
         ended_by=("end of travel (ropes unbreakable)" if not setup.rope_strength else
                   "rope failure" if rope_end else "end of travel"),
+        stop_drop=setup.stop_drop, ended_at_drop=drop_end(run_dir),
         quasi_static=quasi_static_evidence(fast, slow),
         run_wall_time=wall_fast, slow_wall_time=wall_slow, pair_wall_time=time.time() - start)
     return facts

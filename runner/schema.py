@@ -22,7 +22,7 @@ MATERIALS_SOURCE = "inputs/include/materials.in (doc/bond_wirenet.md)"
 PRELOAD_FREE = ("title", "materials.rope_strength", "materials.rope_sigma_t",
                 "materials.rope_tau_c", "punch.travel", "punch.quasi_static_check",
                 "punch.check_travel", "punch.speed_max", "punch.equilibrium_target",
-                "punch.preload_from", "output.*")
+                "punch.stop_drop", "punch.preload_from", "output.*")
 
 
 @dataclass(frozen=True)
@@ -205,6 +205,10 @@ KEYS = [
         "reactions R, weight W, platter force F) the speed control aims at",
         "doc/punch.md (equilibrium-controlled loading)", low=0.0, low_open=True, high=0.01,
         kind="punch"),
+    Key("punch.stop_drop", "number", 0.0, "", "end the punch at the first row, after a bond "
+        "has broken, whose platter force is below this fraction of the peak so far (the net "
+        "has failed: a load test's post-peak drop); 0: run the whole travel",
+        "doc/punch.md (breakable ropes)", low=0.0, high=0.999, kind="punch"),
     Key("punch.preload_from", "text", "", "", "another punch case of the same study whose "
         "pre-loaded panel this case starts from instead of pre-loading its own (the same panel, "
         "materials, pre-load and time step; only " + ", ".join(PRELOAD_FREE) + " may differ); "

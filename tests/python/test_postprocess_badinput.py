@@ -213,6 +213,10 @@ def case_json_cpu_time(work):
     (work / "study" / "punch_hex" / "case.json").write_text('{"cpu_time": [3]}')
 
 
+def case_json_drop(work):
+    (work / "study" / "punch_hex" / "case.json").write_text('{"ended_at_drop": {"force": "0 N"}}')
+
+
 def zone_csv_missing_column(work):
     edit(work / "study" / "punch_hex" / "zone_forces.csv", "max_tension,", "peak,")
 
@@ -371,6 +375,8 @@ CASES = [
      "punch_hex/case.json: 'wall_time' must be a number or null, got a string '3 s'"),
     ("report-case-json-cpu-time", case_json_cpu_time, ["report", STUDY, "--no-figures"],
      "punch_hex/case.json: 'cpu_time' must be a number or null, got a list [3]"),
+    ("report-case-json-drop", case_json_drop, ["report", STUDY, "--no-figures"],
+     "punch_hex/case.json: 'ended_at_drop.force' must be a number or null, got a string '0 N'"),
     ("report-bending-text", bending_text, ["report", STUDY],
      "calib_1/case.json: 'bending' must be a number >= 0, got a string 'abc'"),
     ("report-case-json-quasi-static", case_json_quasi_static, ["report", STUDY, "--no-figures"],

@@ -46,6 +46,30 @@ def test_rope_tension_before_the_break_is_below_the_tensile_limit(rope_case):
     assert peak > 0.5 * limit, (peak, limit)     # the ropes were loaded near their strength
 
 
+def test_stop_drop_ends_the_run_where_the_net_has_failed_and_changes_nothing_before(
+        rope_case, tmp_path):
+    """punch.stop_drop = 0.5: the same run, row for row and digit for digit, up to the first
+    row after a rupture whose force is below half the peak so far; there it stops (the run
+    without it goes on to the end of the travel)."""
+    folder, facts = rope_case
+    drop = punch.run_case(str(tmp_path), "square", "cone", quick=True, rope_strength=True,
+                          quasi_static=False, stop_drop=0.5)
+    whole = (folder / "run" / "punch.csv").read_text().splitlines()
+    part = (tmp_path / "run" / "punch.csv").read_text().splitlines()
+    assert len(part) < len(whole) and whole[:len(part)] == part
+    assert facts["ended_at_drop"] is None and facts["stop_drop"] == 0.0
+    end = drop["ended_at_drop"]
+    force = np.array([float(row.split(",")[2]) for row in part[1:]])
+    broken = np.array([int(float(row.split(",")[6])) for row in part[1:]])
+    assert end["peak_force"] == pytest.approx(force.max(), rel=1e-12)
+    assert end["force"] == pytest.approx(force[-1], rel=1e-12, abs=1e-9)
+    assert force[-1] < 0.5 * force.max() and broken[-1] > 0
+    # no earlier row after a rupture was below half the peak before it
+    peaks = np.maximum.accumulate(force)
+    assert not np.any((force[:-1] < 0.5 * peaks[:-1]) & (broken[:-1] > 0))
+    assert drop["first_rope_rupture"] == facts["first_rope_rupture"]
+
+
 CASE_A = '''kind = "punch"
 title = "square cone punch"
 [panel]

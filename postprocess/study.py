@@ -149,9 +149,9 @@ def read_case_meta(path):
     Errors (PostprocessError naming the file and the key): not JSON, truncated, not an object,
     a bending fraction that is not a finite number >= 0, status / kind that are not text,
     a recorded number (wall_time, edge_force_peak, ...) that is not a number, energy /
-    momentum / quasi_static / ended_at_drop that are not objects (or whose reported numbers are not numbers), a
-    first_rupture that is neither a number nor an object with numbers. NaN / Infinity elsewhere
-    read as null (not available).
+    momentum / quasi_static / ended_at_drop that are not objects (or whose reported numbers are
+    not numbers), a first_rupture that is neither a number nor an object with numbers. NaN /
+    Infinity elsewhere read as null (not available).
     """
     meta = read_json_object(path)
     for key in BENDING_KEYS:

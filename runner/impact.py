@@ -135,8 +135,8 @@ class Setup:
         self.meta = read_json(self.json_path)
         data = read_data(self.data_path)
         self.layers = 2 if self.meta.get("kind") == "compound" else 1
-        # the same stable step as the punch cases (bonds + the 1e9 N/m contact on the lightest
-        # node), halved
+        # the stable step of the punch cases (bonds + the 1e9 N/m contact on the lightest node)
+        # times dt_fraction (0.5: doc/impact.md "Time step")
         if not 0 < dt_fraction <= 1:
             raise PostprocessError(f"impact: dt_fraction must be in (0, 1] (got {dt_fraction})")
         self.dt_fraction = float(dt_fraction)

@@ -35,6 +35,7 @@ Evidence, computed for every case and written to case.json:
 
 import math
 import os
+import re
 import shutil
 import threading
 import time
@@ -486,26 +487,23 @@ def broken_after_preload(workdir):
 
 
 DROP_MARKER = "punch: ended by the drop:"   # the deck's line when punch.stop_drop ends a run
+DROP_LINE = re.compile(r"force (\S+) N below \S+ of the peak (\S+) N at (\S+) m")
 
 
 def drop_end(workdir):
     """Where punch.stop_drop ended the run (the deck's DROP_MARKER line): {displacement, force,
     peak_force}, or None if the run went on to the end of its travel."""
-    with open(os.path.join(workdir, "log.lammps"), errors="replace") as fh:
+    path = os.path.join(workdir, "log.lammps")
+    with open(path, errors="replace") as fh:
         for line in fh:
             if line.startswith(DROP_MARKER):
-                numbers = [float(w) for w in line.split() if _is_number(w)]
-                # force, stop_drop, peak force, displacement in the order of the line
-                return dict(displacement=numbers[3], force=numbers[0], peak_force=numbers[2])
+                found = DROP_LINE.search(line)
+                try:
+                    force, peak, travel = (float(v) for v in found.groups())
+                except (AttributeError, ValueError):
+                    raise PostprocessError(f"{path}: unreadable line '{line.strip()}'") from None
+                return dict(displacement=travel, force=force, peak_force=peak)
     return None
-
-
-def _is_number(word):
-    try:
-        float(word)
-    except ValueError:
-        return False
-    return True
 
 
 def check_preload_bonds(restart, workdir):

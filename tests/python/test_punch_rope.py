@@ -16,6 +16,7 @@ import pytest
 import lmp
 from postprocess import study
 from runner import punch
+from postprocess.errors import PostprocessError
 from postprocess.model import ROPE, ROPE_STRENGTH
 
 
@@ -68,6 +69,17 @@ def test_stop_drop_ends_the_run_where_the_net_has_failed_and_changes_nothing_bef
     peaks = np.maximum.accumulate(force)
     assert not np.any((force[:-1] < 0.5 * peaks[:-1]) & (broken[:-1] > 0))
     assert drop["first_rope_rupture"] == facts["first_rope_rupture"]
+
+
+def test_the_drop_line_is_read_or_refused(tmp_path):
+    (tmp_path / "log.lammps").write_text("run 10\n")
+    assert punch.drop_end(str(tmp_path)) is None
+    (tmp_path / "log.lammps").write_text(
+        "punch: ended by the drop: force 4.5 N below 0.5 of the peak 10 N at 0.25 m\n")
+    assert punch.drop_end(str(tmp_path)) == dict(displacement=0.25, force=4.5, peak_force=10.0)
+    (tmp_path / "log.lammps").write_text("punch: ended by the drop: force x N\n")
+    with pytest.raises(PostprocessError, match="log.lammps: unreadable line 'punch: ended by"):
+        punch.drop_end(str(tmp_path))
 
 
 CASE_A = '''kind = "punch"

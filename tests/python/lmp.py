@@ -66,6 +66,14 @@ def run_deck_rc(deck, workdir, np=1, timeout=600, name="in.deck"):
     return p.returncode, p.stdout
 
 
+def one_error(deck, workdir, np=1):
+    """The one ERROR line of a deck that must fail: a non-zero exit and a single line."""
+    rc, out = run_deck_rc(deck, workdir, np=np)
+    errors = error_lines(out)
+    assert rc != 0 and len(errors) == 1, out[-2000:]
+    return errors[0]
+
+
 def run_deck(deck, workdir, np=1, timeout=600, check=True, name="in.deck"):
     """Run a deck text in workdir (with np MPI ranks); return the combined output."""
     rc, out = run_deck_rc(deck, workdir, np=np, timeout=timeout, name=name)

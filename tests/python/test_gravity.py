@@ -78,8 +78,6 @@ BAD = [
 @pytest.mark.parametrize("args,message", BAD)
 def test_bad_arguments_give_one_error_line(tmp_path, args, message):
     rope_data(tmp_path / "rope.data")
-    text = with_gravity(deck([], steps=10, shake=False), f"fix grav all {args}")
-    rc, out = lmp.run_deck_rc(text, tmp_path)
-    errors = lmp.error_lines(out)
-    assert rc != 0 and len(errors) == 1, out[-2000:]
-    assert message in errors[0] and "fix wirenet/gravity" in errors[0], errors
+    error = lmp.one_error(with_gravity(deck([], steps=10, shake=False), f"fix grav all {args}"),
+                          tmp_path)
+    assert message in error and "fix wirenet/gravity" in error, error

@@ -499,11 +499,21 @@ def drop_end(workdir):
             if line.startswith(DROP_MARKER):
                 found = DROP_LINE.search(line)
                 try:
-                    force, peak, travel = (float(v) for v in found.groups())
-                except (AttributeError, ValueError):
+                    force, peak, travel = map(float, found.groups() if found else ("",) * 3)
+                except ValueError:
                     raise PostprocessError(f"{path}: unreadable line '{line.strip()}'") from None
                 return dict(displacement=travel, force=force, peak_force=peak)
     return None
+
+
+def ending(rope_strength, rope_end, drop):
+    """case.json's ended_by: a rope's failure first (the breakable-rope cases' event), then the
+    force's drop (punch.stop_drop), else the travel's end."""
+    if rope_end:
+        return "rope failure"
+    if drop:
+        return "force drop"
+    return "end of travel" if rope_strength else "end of travel (ropes unbreakable)"
 
 
 def check_preload_bonds(restart, workdir):
@@ -784,6 +794,7 @@ def run_case(case_dir, panel, platter, bending=PAPER_BENDING, quick=False, np_=1
     families = write_outputs(setup, case_dir, run_dir, fast, zones)
     rupture = first_rupture(setup, run_dir, fast, families)
     rope_end = rope_failure(setup, run_dir, fast, families)
+    drop = drop_end(run_dir)
     facts = dict(
         panel=panel, platter=platter, bending=bending, platter_shape=setup.shape,
         body_model=setup.body_model, position=list(setup.position),
@@ -799,9 +810,8 @@ def run_case(case_dir, panel, platter, bending=PAPER_BENDING, quick=False, np_=1
         first_rupture=rupture,
         rope_strength=list(model.rope_strength(setup.materials)) if setup.rope_strength else None,
         first_rope_rupture=rope_end,
-        ended_by=("end of travel (ropes unbreakable)" if not setup.rope_strength else
-                  "rope failure" if rope_end else "end of travel"),
-        stop_drop=setup.stop_drop, ended_at_drop=drop_end(run_dir),
+        ended_by=ending(setup.rope_strength, rope_end, drop),
+        stop_drop=setup.stop_drop, ended_at_drop=drop,
         quasi_static=quasi_static_evidence(fast, slow),
         run_wall_time=wall_fast, slow_wall_time=wall_slow, pair_wall_time=time.time() - start)
     return facts

@@ -82,6 +82,16 @@ def test_the_drop_line_is_read_or_refused(tmp_path):
         punch.drop_end(str(tmp_path))
 
 
+@pytest.mark.parametrize("strength,rope_end,drop,ended_by", [
+    (True, {"displacement": 0.2}, {"force": 1.0}, "rope failure"),
+    (True, None, None, "end of travel"),
+    (False, None, {"force": 1.0}, "force drop"),       # a wire mesh that tore
+    (False, None, None, "end of travel (ropes unbreakable)"),
+])
+def test_how_a_punch_ended(strength, rope_end, drop, ended_by):
+    assert punch.ending(strength, rope_end, drop) == ended_by
+
+
 CASE_A = '''kind = "punch"
 title = "square cone punch"
 [panel]

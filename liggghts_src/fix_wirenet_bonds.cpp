@@ -33,6 +33,7 @@ FixWirenetBonds::FixWirenetBonds(LAMMPS *lmp, int narg, char **arg) :
   if (narg != 3) error->all(FLERR, "fix wirenet/bonds takes no arguments (it is created by bond_style wirenet)");
   if (!atom->molecular) error->all(FLERR, "fix wirenet/bonds needs an atom style with bonds");
 
+  comm_mode = COMM_VELOCITIES;
   restart_global = 1;
   restart_peratom = 1;
   // Not create_attribute: LIGGGHTS' Modify::setup() would then re-initialise every atom of a new
@@ -62,13 +63,15 @@ FixWirenetBonds::FixWirenetBonds(LAMMPS *lmp, int narg, char **arg) :
   size_local_cols = RUPTURE_COLS;
   size_local_rows = 0;
   array_local = NULL;
-  comm_forward = 15;  // the most sent per ghost: rotation matrix (9), velocity and omega (6)
+  comm_forward = 6;   // the most sent per ghost: velocity and omega (6), or a beam-end mark (1)
   comm_reverse = 1;   // beam-end marks of ghost atoms, to their owners (find_beam_ends)
+  comm_border = 4;    // orientation of a new ghost (advanced in step with its owner after that)
 
   nslots = atom->bond_per_atom;
   grow_arrays(atom->nmax);
   atom->add_callback(0);
   atom->add_callback(1);
+  atom->add_callback(2);
   for (int i = 0; i < atom->nlocal; i++) reset_atom(i);
 }
 
@@ -76,6 +79,7 @@ FixWirenetBonds::~FixWirenetBonds()
 {
   atom->delete_callback(id, 0);
   atom->delete_callback(id, 1);
+  atom->delete_callback(id, 2);
   memory->destroy(hist);
   memory->destroy(quat);
   memory->destroy(rot);
@@ -84,7 +88,7 @@ FixWirenetBonds::~FixWirenetBonds()
 
 int FixWirenetBonds::setmask()
 {
-  return PRE_EXCHANGE | PRE_NEIGHBOR | PRE_FORCE | POST_INTEGRATE | POST_RUN;
+  return PRE_EXCHANGE | PRE_NEIGHBOR | PRE_FORCE | POST_RUN;
 }
 
 void FixWirenetBonds::init()
@@ -156,35 +160,52 @@ void FixWirenetBonds::unpack_restart(int nlocal, int nth)
 int FixWirenetBonds::size_restart(int) { return maxsize_restart(); }
 int FixWirenetBonds::maxsize_restart() { return 1 + nslots * NHIST + 4; }
 
-// What is sent depends on orient_flag and vel_flag, which are the same on every rank.
+// Forward messages: the beam-end marks (find_beam_ends), or velocities and angular velocities
+// when LIGGGHTS does not send them itself (bond damping, orientations without 'vel yes').
 int FixWirenetBonds::pack_comm(int n, int *list, double *buf, int, int *)
 {
+  if (comm_mode == COMM_MARKS) {
+    for (int k = 0; k < n; k++) buf[k] = end_mark[list[k]];
+    return 1;
+  }
   int m = 0;
   double **v = atom->v, **omega = atom->omega;
   for (int k = 0; k < n; k++) {
     const int i = list[k];
-    if (orient_flag)
-      for (int c = 0; c < 9; c++) buf[m++] = rot[i][c];
-    if (vel_flag) {
-      for (int c = 0; c < 3; c++) buf[m++] = v[i][c];
-      for (int c = 0; c < 3; c++) buf[m++] = omega[i][c];
-    }
+    for (int c = 0; c < 3; c++) buf[m++] = v[i][c];
+    for (int c = 0; c < 3; c++) buf[m++] = omega[i][c];
   }
-  return 9 * orient_flag + 6 * vel_flag;  // values per atom (LIGGGHTS' forward_comm_fix convention)
+  return 6;  // values per atom (LIGGGHTS' forward_comm_fix convention)
 }
 
 void FixWirenetBonds::unpack_comm(int n, int first, double *buf)
 {
+  if (comm_mode == COMM_MARKS) {
+    for (int k = 0; k < n; k++) end_mark[first + k] = buf[k];
+    return;
+  }
   int m = 0;
   double **v = atom->v, **omega = atom->omega;
   for (int i = first; i < first + n; i++) {
-    if (orient_flag)
-      for (int c = 0; c < 9; c++) rot[i][c] = buf[m++];
-    if (vel_flag) {
-      for (int c = 0; c < 3; c++) v[i][c] = buf[m++];
-      for (int c = 0; c < 3; c++) omega[i][c] = buf[m++];
-    }
+    for (int c = 0; c < 3; c++) v[i][c] = buf[m++];
+    for (int c = 0; c < 3; c++) omega[i][c] = buf[m++];
   }
+}
+
+int FixWirenetBonds::pack_border(int n, int *list, double *buf)
+{
+  int m = 0;
+  for (int k = 0; k < n; k++)
+    for (int c = 0; c < 4; c++) buf[m++] = quat[list[k]][c];
+  return m;
+}
+
+int FixWirenetBonds::unpack_border(int n, int first, double *buf)
+{
+  int m = 0;
+  for (int i = first; i < first + n; i++)
+    for (int c = 0; c < 4; c++) quat[i][c] = buf[m++];
+  return m;
 }
 
 // Layout: { -(number of values that follow), broken bonds, the three tallies' sums, number of
@@ -442,12 +463,14 @@ double FixWirenetBonds::max_bond_length_global()
 
 /* ------------------------------------------------------------------------------------------- */
 
-// Advance the orientations of the beam ends with the half-step angular velocity: an exact
-// rotation by |omega| dt about omega, so the beam law sees the rigid rotation without drift.
-// Other nodes carry no beam, and a wire or contact never reads an orientation.
-void FixWirenetBonds::post_integrate()
+// Advance the orientations of the beam ends, local and ghost, with the half-step angular
+// velocity: an exact rotation by |omega| dt about omega, so the beam law sees the rigid rotation
+// without drift. Done after the ghosts' omega arrived (pre_force): a ghost then takes the same
+// arithmetic on the same numbers as its owner and stays bit-identical to it without a message of
+// its own (it receives its orientation once, at borders). Other nodes carry no beam, and a wire
+// or contact never reads an orientation.
+void FixWirenetBonds::advance_orientations()
 {
-  if (!orient_flag) return;
   const double dt = update->dt;
   double **omega = atom->omega;
   for (const int i : oriented) {
@@ -468,8 +491,8 @@ void FixWirenetBonds::post_integrate()
   }
 }
 
-// The beam law reads rotation matrices: computed once per beam end and step rather than once
-// per bond end, and sent to the ghosts (those of other nodes are sent but never read).
+// The beam law reads rotation matrices: computed once per beam end and step (local and ghost)
+// rather than once per bond end.
 void FixWirenetBonds::refresh_rotations()
 {
   for (const int i : oriented) {
@@ -481,17 +504,18 @@ void FixWirenetBonds::refresh_rotations()
   }
 }
 
-// The local atoms at either end of a beam bond. Bonds are stored once (newton_bond on), so the
-// end that is a ghost here is marked and the mark sent to its owner. Called after every exchange
-// (local indices change there) with the ghosts and the atom map current.
+// The atoms at either end of a beam bond, local and ghost. Bonds are stored once (newton_bond
+// on), so the end that is a ghost here is marked and the mark sent to its owner, and the owners'
+// marks then go to every ghost image of theirs. Called after every exchange (local indices
+// change there) with the ghosts and the atom map current.
 void FixWirenetBonds::find_beam_ends()
 {
   oriented.clear();
   if (!orient_flag) return;
-  const int nlocal = atom->nlocal;
+  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
   const int *num_bond = atom->num_bond;
   int **bond_atom = atom->bond_atom, **bond_type = atom->bond_type;
-  end_mark.assign(nlocal + atom->nghost, 0.0);
+  end_mark.assign(nall, 0.0);
   for (int i = 0; i < nlocal; i++)
     for (int m = 0; m < num_bond[i]; m++) {
       const int t = bond_type[i][m];
@@ -500,7 +524,10 @@ void FixWirenetBonds::find_beam_ends()
       end_mark[atom->map(bond_atom[i][m])] = 1.0;  // present: check_partners_present()
     }
   comm->reverse_comm_fix(this);
-  for (int i = 0; i < nlocal; i++)
+  comm_mode = COMM_MARKS;
+  comm->forward_comm_fix(this);
+  comm_mode = COMM_VELOCITIES;
+  for (int i = 0; i < nall; i++)
     if (end_mark[i] > 0.0) oriented.push_back(i);
 }
 
@@ -515,16 +542,18 @@ void FixWirenetBonds::unpack_reverse_comm(int n, int *list, double *buf)
   for (int k = 0; k < n; k++) end_mark[list[k]] += buf[k];
 }
 
-// Before the forces: the rotation matrices (beam bonds) and the velocities (bond damping) of the
-// ghost atoms, in one exchange.
-void FixWirenetBonds::refresh_ghosts()
+// Before the forces: the velocities of the ghost atoms (bond damping, and the orientations'
+// update) unless LIGGGHTS sent them already ('communicate ... vel yes'), then the orientations.
+void FixWirenetBonds::refresh_ghosts(bool advance)
 {
-  if (orient_flag) refresh_rotations();
-  if (orient_flag || vel_flag) comm->forward_comm_fix(this);
+  if ((orient_flag || vel_flag) && !comm->ghost_velocity) comm->forward_comm_fix(this);
+  if (!orient_flag) return;
+  if (advance) advance_orientations();
+  refresh_rotations();
 }
 
-void FixWirenetBonds::setup_pre_force(int) { refresh_ghosts(); }
-void FixWirenetBonds::pre_force(int) { refresh_ghosts(); }
+void FixWirenetBonds::setup_pre_force(int) { refresh_ghosts(false); }
+void FixWirenetBonds::pre_force(int) { refresh_ghosts(true); }
 
 double FixWirenetBonds::memory_usage()
 {

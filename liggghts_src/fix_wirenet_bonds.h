@@ -32,7 +32,6 @@ class FixWirenetBonds : public Fix {
   void pre_neighbor();
   void setup_pre_force(int);
   void pre_force(int);
-  void post_integrate();
   void post_run();
   double compute_scalar();
   double compute_vector(int);
@@ -49,6 +48,8 @@ class FixWirenetBonds : public Fix {
   int maxsize_restart();
   int pack_comm(int, int *, double *, int, int *);
   void unpack_comm(int, int, double *);
+  int pack_border(int, int *, double *);
+  int unpack_border(int, int, double *);
   int pack_reverse_comm(int, int, double *);
   void unpack_reverse_comm(int, int *, double *);
   void write_restart(FILE *);
@@ -66,8 +67,8 @@ class FixWirenetBonds : public Fix {
   // beam[t] != 0 for the bond types of a beam law: their end nodes are the only ones whose
   // orientation is tracked (an empty list: no beam bond exists)
   void use_orientations(const std::vector<char> &beam) { beam_type = beam; orient_flag = !beam.empty(); }
-  // send velocities and angular velocities to the ghost atoms before the forces (bond damping;
-  // LIGGGHTS sends them only with 'communicate ... vel yes')
+  // the ghost atoms need their velocities and angular velocities before the forces (bond
+  // damping); sent by this fix unless LIGGGHTS sends them ('communicate ... vel yes')
   void use_velocities(bool on) { vel_flag = on ? 1 : 0; }
   void set_ghost_extent(double cut) { ghost_extent = cut; }
   // flag the bond (i, slot m) as broken; it leaves the atom's bond list at the next exchange;
@@ -94,11 +95,12 @@ class FixWirenetBonds : public Fix {
   int nslots;        // bond slots per atom (atom->bond_per_atom when created)
   double **hist;     // [nmax][nslots * NHIST]
   double **quat;     // [nmax][4] node orientation (w, x, y, z), space frame
-  double **rot;      // [nmax][9] its rotation matrix, derived each step, sent to ghosts
+  double **rot;      // [nmax][9] its rotation matrix, derived each step
   int orient_flag, vel_flag;
   std::vector<char> beam_type;    // [type]: a beam law
-  std::vector<int> oriented;      // local atoms at a beam end: the only ones whose orientation matters
+  std::vector<int> oriented;      // local and ghost atoms at a beam end: the only ones whose orientation matters
   std::vector<double> end_mark;   // [nlocal + nghost] scratch of find_beam_ends
+  enum CommMode { COMM_VELOCITIES, COMM_MARKS } comm_mode;  // what pack_comm sends
   long version;
   double ghost_extent;
   bigint nbroken_total;  // all ranks, since the bonds were created (restarted)
@@ -117,7 +119,8 @@ class FixWirenetBonds : public Fix {
 
   void reset_atom(int);
   void refresh_rotations();
-  void refresh_ghosts();
+  void advance_orientations();
+  void refresh_ghosts(bool advance);
   void remove_broken_bonds(bool scan_all);
   void check_partners_present();
   void find_beam_ends();

@@ -1,7 +1,8 @@
 /* WireNet: fix wirenet/hold. See doc/fix_wirenet_hold.md.
 
-   post_force zeroes the held components of the group's forces and keeps their negatives, the
-   support reaction, on this rank: the total, and per atom with `each`. The window sums of
+   post_force zeroes the held components of the group's forces (a list of the held atoms' local
+   indices, renewed after each neighbour-list build, spares a pass over all atoms) and keeps
+   their negatives, the support reaction, on this rank: the total, and per atom with `each`. The window sums of
    WireNet::WindowSums add them up over the mean window; compute_vector / compute_array reduce
    the current values and the last complete window in one MPI_Allreduce, once per step asked. */
 
@@ -17,6 +18,7 @@
 #include "comm.h"
 #include "error.h"
 #include "group.h"
+#include "neighbor.h"
 #include "update.h"
 
 using namespace LAMMPS_NS;
@@ -38,7 +40,7 @@ bool parse_component(const char *s, const char *axis)
 }  // namespace
 
 FixWirenetHold::FixWirenetHold(LAMMPS *lmp, int narg, char **arg)
-    : Fix(lmp, narg, arg), width(1), each(false), reduced_at(-1)
+    : Fix(lmp, narg, arg), width(1), each(false), reduced_at(-1), members_at(-1)
 {
   try {
     if (narg < 6) throw std::invalid_argument(USAGE);
@@ -125,13 +127,16 @@ int FixWirenetHold::row_of(int tag) const
   return static_cast<int>(std::lower_bound(tags.begin(), tags.end(), tag) - tags.begin());
 }
 
+// A run's set-up may follow a change of the group (a `group` command between runs): list anew.
 void FixWirenetHold::setup(int vflag)
 {
+  collect_members();
   post_force(vflag);
 }
 
 void FixWirenetHold::min_setup(int vflag)
 {
+  collect_members();
   post_force(vflag);
 }
 
@@ -140,25 +145,41 @@ void FixWirenetHold::min_post_force(int vflag)
   post_force(vflag);
 }
 
-void FixWirenetHold::post_force(int)
+// The held atoms' local indices and rows, in ascending local index (the order of a pass over
+// all atoms: the sums are the same to the last bit). Local indices change only where LIGGGHTS
+// exchanges or sorts atoms, and a neighbour-list build follows each of those.
+void FixWirenetHold::collect_members()
 {
-  double **f = atom->f;
+  members.clear();
+  member_rows.clear();
   const int *mask = atom->mask, *tag = atom->tag;
-  const int nlocal = atom->nlocal;
-  std::fill(current.begin(), current.end(), 0.0);
-  double total[3] = { 0.0, 0.0, 0.0 };
-  for (int i = 0; i < nlocal; i++) {
+  for (int i = 0; i < atom->nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
-    double *row = NULL;
+    int row = -1;
     if (each) {
       const int r = row_of(tag[i]);
-      if (r < static_cast<int>(tags.size()) && tags[r] == tag[i]) row = &current[3 + 3 * r];
+      if (r < static_cast<int>(tags.size()) && tags[r] == tag[i]) row = r;
     }
+    members.push_back(i);
+    member_rows.push_back(row);
+  }
+  members_at = neighbor->ncalls;
+}
+
+void FixWirenetHold::post_force(int)
+{
+  if (members_at != neighbor->ncalls) collect_members();
+  double **f = atom->f;
+  std::fill(current.begin(), current.end(), 0.0);
+  double total[3] = { 0.0, 0.0, 0.0 };
+  for (size_t k = 0; k < members.size(); k++) {
+    double *fi = f[members[k]];
+    double *row = member_rows[k] >= 0 ? &current[3 + 3 * member_rows[k]] : NULL;
     for (int d = 0; d < 3; d++) {
       if (!held[d]) continue;
-      total[d] -= f[i][d];
-      if (row) row[d] -= f[i][d];
-      f[i][d] = 0.0;
+      total[d] -= fi[d];
+      if (row) row[d] -= fi[d];
+      fi[d] = 0.0;
     }
   }
   for (int d = 0; d < 3; d++) current[d] = total[d];

@@ -44,8 +44,12 @@ class FixWirenetHold : public Fix {
   WireNet::WindowSums windows;       // the same values summed over the mean windows
   std::vector<double> reduced;       // current (total, rows) then window mean (total, rows), all ranks
   long long reduced_at;              // step of `reduced`; -1: stale
+  std::vector<int> members;          // local indices of the group's atoms, ascending
+  std::vector<int> member_rows;      // their rows (each), else -1
+  long long members_at;              // neighbor->ncalls when members was listed
 
   void collect_rows();
+  void collect_members();
   int row_of(int tag) const;
   void reduce();
 };

@@ -26,14 +26,14 @@ RHO, G = 7850.0, 9.81
 WINDOW, STEPS, DT = 50, 2000, 2e-6
 
 
-def rope_data(path):
+def rope_data(path, box_x=(-1, 3)):
     # anchors 1 and N+1 at the ends; the rope sags by 5 cm in a V so that it starts near its shape
     atoms = []
     for k in range(N + 1):
         z = -0.05 * (1 - abs(2 * k / N - 1))
         atoms.append((k + 1, 1, k * L0 * 0.995, 0.0, z, D, RHO, 1))
     bonds = [(k + 1, 1, k + 1, k + 2) for k in range(N)]
-    lmp.write_data(path, atoms, bonds, box=((-1, 3), (-1, 1), (-1, 1)))
+    lmp.write_data(path, atoms, bonds, box=(box_x, (-1, 1), (-1, 1)))
 
 
 def deck(support, steps=STEPS, extra=(), shake=True, calm=False):
@@ -120,6 +120,25 @@ def test_same_means_on_two_ranks_and_between_window_ends(tmp_path):
             assert np.array_equal(r[1:], at_end[step - 7])
             checked += 1
     assert checked >= 8
+
+
+def test_held_atoms_that_change_rank_stay_held(tmp_path):
+    """The rope, held in z only at its ends, slides 1.5 m along x across the 2-rank split (x = 0):
+    every atom changes rank and local index. The held atoms are listed anew after each exchange;
+    by Galilean invariance the reactions are those of the rope that does not slide."""
+    rope_data(tmp_path / "rope.data", box_x=(-3, 3))
+    support = ["fix h ends wirenet/hold NULL NULL 0", "fix integ_ends ends nve/sphere",
+               f'fix out all print {WINDOW} "H $(step) $(f_h[1]) $(f_h[2]) $(f_h[3]) $(x[1]) $(z[1]) $(z[{N + 1}])" screen yes']
+    speed = -1.5 / (STEPS * DT)
+    rest = lmp.run_deck(deck(support), tmp_path, np=2, name="in.rest")
+    slide = lmp.run_deck(deck(support + [f"velocity all set {speed!r} 0 0"]), tmp_path, np=2, name="in.slide")
+    r, s = numbers(rest, "H"), numbers(slide, "H")
+    assert r.shape == s.shape and s[0, 4] > -0.05 and s[-1, 4] < -1.4   # anchor 1 (at x = 0) crossed
+    weight = (N + 1) * RHO * math.pi * D ** 3 / 6 * G
+    assert abs(r[-1, 3]) > 0.1 * weight                        # the ends carry load in z
+    assert np.abs(s[:, 1:4] - r[:, 1:4]).max() < 1e-6 * weight  # the same reactions
+    assert np.abs(s[:, 5:] - r[:, 5:]).max() < 1e-9              # the ends stay at their heights
+    assert np.abs(r[:, 5:] - r[0, 5:]).max() == 0.0 and abs(r[0, 5]) < 1e-12
 
 
 BAD = [

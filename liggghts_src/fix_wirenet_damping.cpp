@@ -128,8 +128,7 @@ void FixWirenetDamping::setup(int vflag)
 
 void FixWirenetDamping::post_force(int)
 {
-  if (tally) damp<true, false>();
-  else damp<false, false>();
+  damp_all<false>();
 }
 
 void FixWirenetDamping::reset_dt()
@@ -159,8 +158,21 @@ void FixWirenetDamping::initial_integrate(int)
 
 void FixWirenetDamping::final_integrate()
 {
-  if (tally) damp<true, true>();
-  else damp<false, true>();
+  damp_all<true>();
+}
+
+// The loop instantiated for the options of this fix: a run without viscous damping does not
+// multiply every component by a zero coefficient.
+template <bool KICK>
+void FixWirenetDamping::damp_all()
+{
+  if (viscous > 0.0) {
+    if (tally) damp<true, KICK, true>();
+    else damp<false, KICK, true>();
+  } else {
+    if (tally) damp<true, KICK, false>();
+    else damp<false, KICK, false>();
+  }
 }
 
 // The damping of every atom of the group; TALLY keeps each atom's damping force and torque for
@@ -168,7 +180,7 @@ void FixWirenetDamping::final_integrate()
 // does not need. KICK (integrate yes, from final_integrate: every force of the step is in) also
 // gives the second half kick with the damped force in the same pass; the damped force stays in
 // the atom's force for the next step's first half kick.
-template <bool TALLY, bool KICK>
+template <bool TALLY, bool KICK, bool VISC>
 void FixWirenetDamping::damp()
 {
   const int nlocal = atom->nlocal;
@@ -177,8 +189,7 @@ void FixWirenetDamping::damp()
   // would make the compiler reload them at every atom
   double **f = atom->f, **v = atom->v;
   double **t = rotational ? atom->torque : NULL, **w = rotational ? atom->omega : NULL;
-  const bool visc = viscous > 0.0;
-  const double *rmass = KICK || visc ? atom->rmass : NULL, *radius = KICK || visc ? atom->radius : NULL;
+  const double *rmass = KICK || VISC ? atom->rmass : NULL, *radius = KICK || VISC ? atom->radius : NULL;
   const double a = alpha, c = viscous, dtfrotate = dtf / 0.4;   // nve/sphere's I = 0.4 m r^2
   // every entry is written below: grow only, no clearing pass
   if (TALLY && fdamp.size() < 6 * (size_t)nlocal) fdamp.resize(6 * (size_t)nlocal);
@@ -192,9 +203,9 @@ void FixWirenetDamping::damp()
     }
     double *fi = f[i], *vi = v[i];
     const double dtfm = KICK ? dtf / rmass[i] : 0.0;
-    const double cm = visc ? c * rmass[i] : 0.0;
+    const double cm = VISC ? c * rmass[i] : 0.0;
     for (int k = 0; k < 3; k++) {
-      fd[k] = local_damping(fi[k], vi[k], a) - cm * vi[k];
+      fd[k] = VISC ? local_damping(fi[k], vi[k], a) - cm * vi[k] : local_damping(fi[k], vi[k], a);
       fi[k] += fd[k];
       if (KICK) vi[k] += dtfm * fi[k];
     }
@@ -204,9 +215,9 @@ void FixWirenetDamping::damp()
     }
     double *ti = t[i], *wi = w[i];
     const double dtirotate = KICK ? dtfrotate / (radius[i] * radius[i] * rmass[i]) : 0.0;
-    const double ci = visc ? 0.4 * cm * radius[i] * radius[i] : 0.0;
+    const double ci = VISC ? 0.4 * cm * radius[i] * radius[i] : 0.0;
     for (int k = 0; k < 3; k++) {
-      fd[3 + k] = local_damping(ti[k], wi[k], a) - ci * wi[k];
+      fd[3 + k] = VISC ? local_damping(ti[k], wi[k], a) - ci * wi[k] : local_damping(ti[k], wi[k], a);
       ti[k] += fd[3 + k];
       if (KICK) wi[k] += dtirotate * ti[k];
     }

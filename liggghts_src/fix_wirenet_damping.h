@@ -45,7 +45,8 @@ class FixWirenetDamping : public Fix {
   // velocity, torque and angular velocity instead of two (both passes are bound by memory)
   bool integrate;
   double dtv, dtf;            // integrate: dt and dt/2
-  template <bool TALLY, bool KICK> void damp();
+  template <bool KICK> void damp_all();
+  template <bool TALLY, bool KICK, bool VISC> void damp();
   // Damping force and torque of this step per local atom (6 doubles each), kept from post_force
   // to end_of_step, when the velocities of the same instant are known.
   std::vector<double> fdamp;

@@ -111,15 +111,19 @@ def test_one_and_two_ranks_agree(tmp_path, ghost_velocity):
     assert np.abs(a - b).max() <= 1e-10 * np.abs(a).max()
 
 
-def test_restart_continues_exactly(tmp_path):
+# On 2 ranks with 'vel yes' (the decks' way) the ghosts' orientations come from the restarted
+# owners at borders and then turn in step with them.
+@pytest.mark.parametrize("np_, extra", [(1, ()), (2, ("communicate single vel yes",))])
+def test_restart_continues_exactly(tmp_path, np_, extra):
     data = make_beam(tmp_path)
-    straight = final_positions((tmp_path / "straight", 1), loaded_run(data, 20000))
-    first = loaded_run(data, 10000) + ["write_restart half.restart"]
-    lmp.run_deck("\n".join(first) + "\n", tmp_path / "split")
-    second = ["units si", "atom_modify map array sort 0 0", "read_restart half.restart",
+    procs = "processors * 1 1"
+    straight = final_positions((tmp_path / "straight", np_), loaded_run(data, 20000, procs, extra))
+    first = loaded_run(data, 10000, procs, extra) + ["write_restart half.restart"]
+    lmp.run_deck("\n".join(first) + "\n", tmp_path / "split", np=np_)
+    second = [procs, "units si", "atom_modify map array sort 0 0", "read_restart half.restart", *extra,
               "group root type 2", "group tip type 3", "group free subtract all root",
               "fix integrate free nve/sphere", f"timestep {DT!r}",
               "fix load tip addforce 0 0 -0.05", "fix damp free viscous 0.05", "run 10000"]
-    resumed = final_positions((tmp_path / "split", 1), second)
+    resumed = final_positions((tmp_path / "split", np_), second)
     assert np.abs(straight[:, 2]).max() > 1e-3
     assert np.abs(straight - resumed).max() <= 1e-12 * np.abs(straight).max()

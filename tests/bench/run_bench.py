@@ -276,34 +276,44 @@ def bench_yade_punch(out, travel):
     return res
 
 
-def bench_ranks(out, steps, ranks=(1, 2)):
+def bench_ranks(out, steps, repeats=3, ranks=(1, 2)):
     """The 3 m compound panel's punch and impact on 1 and 2 MPI ranks: LIGGGHTS' loop time of
     `steps` steps of the load phase (after a short pre-load or settling, which is not timed).
-    The set-ups are the study's (runner/punch.py, runner/impact.py); the bond dumps are off."""
+    The set-ups are the study's (runner/punch.py, runner/impact.py); the bond dumps are off.
+    The rank counts alternate, `repeats` times, and the best of each is kept: a single run on a
+    shared machine moves by about 5 %, as much as the effects measured here."""
     from postprocess import liggghts as lig
     from runner import impact
-    res = {}
-    for np_ in ranks:
-        n, seconds = bench_body.run("compound", True, steps, "analytic",
-                                    str(out / f"ranks_punch_np{np_}"), np_=np_)
-        res.setdefault("punch", {})[np_] = {"steps": n, "seconds": seconds}
-        folder = out / f"ranks_impact_np{np_}"
-        setup = impact.Setup(str(folder / "setup"), "compound", relax=0.002)
-        setup.duration, setup.steps = steps * setup.dt, steps     # the first `steps` of the impact
-        variables = setup.variables()
-        variables.update(dump_every=10 ** 9, frame_every=10 ** 9)
-        lig.run(lig.INPUTS / "impact.in", str(folder / "run"), variables, np=np_,
-                total_steps=steps, dt=setup.dt, phase_marker=RELEASED)
-        n, seconds = loop_times((folder / "run" / "log.lammps").read_text(), RELEASED)
-        res.setdefault("impact", {})[np_] = {"steps": n, "seconds": seconds}
+    res = {"punch": {}, "impact": {}}
+
+    def keep(case, np_, n, seconds):
+        best = res[case].get(np_)
+        if best is None or seconds / n < best["seconds"] / best["steps"]:
+            res[case][np_] = {"steps": n, "seconds": seconds}
+
+    for _ in range(repeats):
+        for np_ in ranks:
+            n, seconds = bench_body.run("compound", True, steps, "analytic",
+                                        str(out / f"ranks_punch_np{np_}"), np_=np_)
+            keep("punch", np_, n, seconds)
+            folder = out / f"ranks_impact_np{np_}"
+            setup = impact.Setup(str(folder / "setup"), "compound", relax=0.002)
+            setup.duration, setup.steps = steps * setup.dt, steps     # the first `steps` of the impact
+            variables = setup.variables()
+            variables.update(dump_every=10 ** 9, frame_every=10 ** 9)
+            lig.run(lig.INPUTS / "impact.in", str(folder / "run"), variables, np=np_,
+                    total_steps=steps, dt=setup.dt, phase_marker=RELEASED)
+            keep("impact", np_, *loop_times((folder / "run" / "log.lammps").read_text(), RELEASED))
     for case in res.values():
         one, two = case[ranks[0]], case[ranks[-1]]
         case["speedup"] = (one["seconds"] / one["steps"]) / (two["seconds"] / two["steps"])
+    res["repeats"] = repeats
     return res
 
 
 def ranks_table(r):
-    lines = ["| 3 m compound panel | steps | 1 rank (s) | 2 ranks (s) | speed-up |", "|---|---|---|---|---|"]
+    lines = [f"| 3 m compound panel | steps | 1 rank (s) | 2 ranks (s) | speed-up (best of {r.get('repeats', 1)} alternating runs each) |",
+             "|---|---|---|---|---|"]
     for case in ("punch", "impact"):
         c = r[case]
         lines.append(f"| {case} (load phase) | {c[1]['steps']} | {c[1]['seconds']:.2f} | "
@@ -448,7 +458,7 @@ def main(argv=None):
         print(study_table(opts.study))
         return 0
     if opts.only == "ranks":
-        r = bench_ranks(opts.out, opts.rank_steps)
+        r = bench_ranks(opts.out, opts.rank_steps, opts.repeats)
         print(ranks_table(r))
         (opts.out / "ranks_results.json").write_text(json.dumps(r, indent=2) + "\n")
         return 0
@@ -470,7 +480,7 @@ def main(argv=None):
           flush=True)
     res["yade_punch"] = bench_yade_punch(opts.out, opts.yade_travel)
     print(f"[bench] 1 vs 2 MPI ranks: 3 m compound punch and impact, {opts.rank_steps} steps", flush=True)
-    res["ranks"] = bench_ranks(opts.out, opts.rank_steps)
+    res["ranks"] = bench_ranks(opts.out, opts.rank_steps, opts.repeats)
     text = "\n\n".join([table(res), yade_table(res["yade_punch"]), ranks_table(res["ranks"]),
                          study_table(opts.study)])
     print()

@@ -205,7 +205,8 @@ void FixWirenetDamping::damp()
     const double dtfm = KICK ? dtf / rmass[i] : 0.0;
     const double cm = VISC ? c * rmass[i] : 0.0;
     for (int k = 0; k < 3; k++) {
-      fd[k] = VISC ? local_damping(fi[k], vi[k], a) - cm * vi[k] : local_damping(fi[k], vi[k], a);
+      fd[k] = local_damping(fi[k], vi[k], a);
+      if (VISC) fd[k] -= cm * vi[k];
       fi[k] += fd[k];
       if (KICK) vi[k] += dtfm * fi[k];
     }
@@ -217,7 +218,8 @@ void FixWirenetDamping::damp()
     const double dtirotate = KICK ? dtfrotate / (radius[i] * radius[i] * rmass[i]) : 0.0;
     const double ci = VISC ? 0.4 * cm * radius[i] * radius[i] : 0.0;
     for (int k = 0; k < 3; k++) {
-      fd[3 + k] = VISC ? local_damping(ti[k], wi[k], a) - ci * wi[k] : local_damping(ti[k], wi[k], a);
+      fd[3 + k] = local_damping(ti[k], wi[k], a);
+      if (VISC) fd[3 + k] -= ci * wi[k];
       ti[k] += fd[3 + k];
       if (KICK) wi[k] += dtirotate * ti[k];
     }

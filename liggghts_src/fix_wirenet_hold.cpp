@@ -2,9 +2,10 @@
 
    post_force zeroes the held components of the group's forces (a list of the held atoms' local
    indices, renewed after each neighbour-list build, spares a pass over all atoms) and keeps
-   their negatives, the support reaction, on this rank: the total, and per atom with `each`. The window sums of
-   WireNet::WindowSums add them up over the mean window; compute_vector / compute_array reduce
-   the current values and the last complete window in one MPI_Allreduce, once per step asked. */
+   their negatives, the support reaction, on this rank: the total, and per atom with `each`.
+   The window sums of WireNet::WindowSums add them up over the mean window; compute_vector /
+   compute_array reduce the current values and the last complete window in one MPI_Allreduce,
+   once per step asked. */
 
 #include "fix_wirenet_hold.h"
 #include "wirenet_fix_args.h"
@@ -127,7 +128,8 @@ int FixWirenetHold::row_of(int tag) const
   return static_cast<int>(std::lower_bound(tags.begin(), tags.end(), tag) - tags.begin());
 }
 
-// A run's set-up may follow a change of the group (a `group` command between runs): list anew.
+// A run's set-up may follow a `group` command that changed the group without a neighbour-list
+// build since (`run ... pre no`): list anew.
 void FixWirenetHold::setup(int vflag)
 {
   collect_members();

@@ -20,6 +20,7 @@
 #include "error.h"
 #include "force.h"
 #include "modify.h"
+#include "neighbor.h"
 #include "update.h"
 #include "wirenet_fix_args.h"
 #include "wirenet_local_damping.h"
@@ -31,7 +32,7 @@ using WireNet::local_damping;
 
 FixWirenetDamping::FixWirenetDamping(LAMMPS *lmp, int narg, char **arg) :
   Fix(lmp, narg, arg), alpha(0.0), viscous(0.0), rotational(false), tally(true), integrate(false), dtv(0.0), dtf(0.0),
-  ndamped(-1)
+  kicks_at(-1), turning_step(-1), turning_nlocal(-1), ndamped(-1)
 {
   if (narg < 4 || narg % 2 != 0)
     error->all(FLERR, "fix wirenet/damping: expected 'fix ID GROUP wirenet/damping ALPHA [tally yes|no] [integrate yes|no] [viscous C]'");
@@ -135,6 +136,27 @@ void FixWirenetDamping::reset_dt()
 {
   dtv = update->dt;
   dtf = 0.5 * update->dt * force->ftm2v;
+  kicks_at = -1;
+}
+
+// dt/2m and dt/2I of every local atom, the two divisions of each kick, once per neighbour-list
+// build (atoms change places only then) instead of twice per step. The same arithmetic as
+// nve/sphere, so the same bits. A mass set between runs is seen: a run's set-up builds the
+// lists (and 'run pre no' after a change is an input error, LIGGGHTS' run doc); a new time
+// step (reset_dt) clears them.
+const double *FixWirenetDamping::kick_factors()
+{
+  const int nlocal = atom->nlocal;
+  if (kicks_at == neighbor->ncalls && kicks.size() == 2 * (size_t)nlocal) return kicks.data();
+  kicks.resize(2 * (size_t)nlocal);
+  const double *rmass = atom->rmass, *radius = atom->radius;
+  const double dtfrotate = dtf / 0.4;   // nve/sphere's I = 0.4 m r^2
+  for (int i = 0; i < nlocal; i++) {
+    kicks[2 * i] = dtf / rmass[i];
+    kicks[2 * i + 1] = dtfrotate / (radius[i] * radius[i] * rmass[i]);
+  }
+  kicks_at = neighbor->ncalls;
+  return kicks.data();
 }
 
 // integrate: the first half kick and the drift, with the damped force of the last step (as
@@ -144,16 +166,24 @@ void FixWirenetDamping::initial_integrate(int)
   const int nlocal = atom->nlocal;
   const int *mask = atom->mask;
   double **x = atom->x, **v = atom->v, **f = atom->f, **w = atom->omega, **t = atom->torque;
-  const double *rmass = atom->rmass, *radius = atom->radius;
-  const double dtfrotate = dtf / 0.4;
+  const double *kick = kick_factors();
+  const double dt = dtv;   // a local: the writes below could alias the member
+  // the atoms with a torque, listed by the damping at the end of the last step (atoms move
+  // between ranks and places only after this pass); otherwise each atom's torque is looked at
+  const bool listed = turning_step == update->ntimestep - 1 && turning_nlocal == nlocal;
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
-    const double dtfm = dtf / rmass[i];
+    const double dtfm = kick[2 * i];
     for (int k = 0; k < 3; k++) v[i][k] += dtfm * f[i][k];
-    for (int k = 0; k < 3; k++) x[i][k] += dtv * v[i][k];
-    const double dtirotate = dtfrotate / (radius[i] * radius[i] * rmass[i]);
-    for (int k = 0; k < 3; k++) w[i][k] += dtirotate * t[i][k];
+    for (int k = 0; k < 3; k++) x[i][k] += dt * v[i][k];
+    if (listed) continue;
+    const double *ti = t[i];
+    if (ti[0] == 0.0 && ti[1] == 0.0 && ti[2] == 0.0) continue;  // see damp(): w += 0
+    for (int k = 0; k < 3; k++) w[i][k] += kick[2 * i + 1] * ti[k];
   }
+  if (listed)
+    for (const int i : turning)
+      for (int k = 0; k < 3; k++) w[i][k] += kick[2 * i + 1] * t[i][k];
 }
 
 void FixWirenetDamping::final_integrate()
@@ -189,12 +219,17 @@ void FixWirenetDamping::damp()
   // would make the compiler reload them at every atom
   double **f = atom->f, **v = atom->v;
   double **t = rotational ? atom->torque : NULL, **w = rotational ? atom->omega : NULL;
-  const double *rmass = KICK || VISC ? atom->rmass : NULL, *radius = KICK || VISC ? atom->radius : NULL;
-  const double a = alpha, c = viscous, dtfrotate = dtf / 0.4;   // nve/sphere's I = 0.4 m r^2
+  const double *rmass = VISC ? atom->rmass : NULL, *radius = VISC ? atom->radius : NULL;
+  const double *kick = KICK ? kick_factors() : NULL;
+  const double a = alpha, c = viscous;
   // every entry is written below: grow only, no clearing pass
   if (TALLY && fdamp.size() < 6 * (size_t)nlocal) fdamp.resize(6 * (size_t)nlocal);
   double scratch[6];
   double *fd = TALLY ? fdamp.data() : scratch;
+  if (integrate) {
+    turning.clear();
+    turning.reserve(nlocal);   // no allocation in the loop
+  }
   for (int i = 0; i < nlocal; i++, fd += TALLY ? 6 : 0) {
     if (!(mask[i] & groupbit)) {
       if (TALLY)
@@ -202,7 +237,7 @@ void FixWirenetDamping::damp()
       continue;
     }
     double *fi = f[i], *vi = v[i];
-    const double dtfm = KICK ? dtf / rmass[i] : 0.0;
+    const double dtfm = KICK ? kick[2 * i] : 0.0;
     const double cm = VISC ? c * rmass[i] : 0.0;
     for (int k = 0; k < 3; k++) {
       fd[k] = local_damping(fi[k], vi[k], a);
@@ -214,8 +249,16 @@ void FixWirenetDamping::damp()
       if (TALLY) fd[3] = fd[4] = fd[5] = 0.0;
       continue;
     }
-    double *ti = t[i], *wi = w[i];
-    const double dtirotate = KICK ? dtfrotate / (radius[i] * radius[i] * rmass[i]) : 0.0;
+    double *ti = t[i];
+    // No torque (a node held by wires alone, which pull along their axis) and no viscous part:
+    // no damping torque and no kick, and its angular velocity is not read. The same bits as the
+    // full update, in which -alpha |0| sign(w) and dt/2I * 0 add only zeros (a zero's sign aside).
+    if (!VISC && ti[0] == 0.0 && ti[1] == 0.0 && ti[2] == 0.0) {
+      if (TALLY) fd[3] = fd[4] = fd[5] = 0.0;
+      continue;
+    }
+    double *wi = w[i];
+    const double dtirotate = KICK ? kick[2 * i + 1] : 0.0;
     const double ci = VISC ? 0.4 * cm * radius[i] * radius[i] : 0.0;
     for (int k = 0; k < 3; k++) {
       fd[3 + k] = local_damping(ti[k], wi[k], a);
@@ -223,8 +266,13 @@ void FixWirenetDamping::damp()
       ti[k] += fd[3 + k];
       if (KICK) wi[k] += dtirotate * ti[k];
     }
+    if (integrate && (ti[0] != 0.0 || ti[1] != 0.0 || ti[2] != 0.0)) turning.push_back(i);
   }
   if (TALLY) ndamped = nlocal;
+  if (integrate) {
+    turning_step = update->ntimestep;
+    turning_nlocal = nlocal;
+  }
 }
 
 // F(t+dt) . v(t+dt) dt with the full-step velocity: summed over all forces this equals the change of

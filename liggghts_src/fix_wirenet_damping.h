@@ -45,6 +45,14 @@ class FixWirenetDamping : public Fix {
   // velocity, torque and angular velocity instead of two (both passes are bound by memory)
   bool integrate;
   double dtv, dtf;            // integrate: dt and dt/2
+  std::vector<double> kicks;  // integrate: dt/2m and dt/2I per local atom (kick_factors)
+  bigint kicks_at;            // the neighbour-list build they belong to; -1 = to be worked out
+  const double *kick_factors();
+  // integrate: the group's local atoms with a torque after the damping (most nodes of a net
+  // have none: wires pull along their axis), for the next first half step's rotational kicks
+  std::vector<int> turning;
+  bigint turning_step;        // the step whose damping listed them
+  int turning_nlocal;
   template <bool KICK> void damp_all();
   template <bool TALLY, bool KICK, bool VISC> void damp();
   // Damping force and torque of this step per local atom (6 doubles each), kept from post_force

@@ -257,3 +257,47 @@ def test_integrate_and_viscous_need_spheres(tmp_path, keywords, message):
     rc, out = lmp.run_deck_rc(deck, tmp_path)
     errors = lmp.error_lines(out)
     assert rc != 0 and len(errors) == 1 and message in errors[0], out[-1500:]
+
+
+# The fused pass keeps each atom's dt/2m and dt/2I from one neighbour-list build to the next:
+# atoms re-sorted every 50 steps (a build every step) and a tip mass changed between runs; or
+# few builds and the time step changed within the run (fix dt/reset calls reset_dt).
+CHANGES = {"sort_and_set_mass": (["neigh_modify delay 0 every 1 check no"], "sort 50 0.05", ["set group tip mass 0.05"]),
+           "dt_reset": (["fix dtr free dt/reset 100 1e-6 3e-5 1e-7 units box"], "sort 0 0", [])}
+
+
+@pytest.mark.parametrize("change", sorted(CHANGES))
+def test_integrate_yes_is_nve_sphere_with_the_damping_on_turning_beams(tmp_path, change):
+    """`integrate yes` on nodes with torques: a cantilever of beam bonds swung by a tip load,
+    over two runs, with the changes of CHANGES. The fused pass kicks the angular velocity only
+    of atoms that had a torque. Positions and angular velocities as nve/sphere +
+    wirenet/damping's, bit for bit."""
+    import test_beam_dynamics as beam
+    before, sort, between = CHANGES[change]
+    data = beam.make_beam(tmp_path)
+    lines = beam.setup_lines(data)
+    lines[1] = lines[1].replace("atom_modify map array sort 0 0", "atom_modify map array " + sort)
+    # the load before the damping: nve/sphere's damping in post_force damps it too
+    lines += before + ["fix load tip addforce 0 0.02 -0.05", "fix damp free wirenet/damping 0.3", "run 1500",
+                       *between, "run 1500",
+                       "write_dump all custom final.dump id x y z omegax omegay omegaz modify sort id",
+                       'print "DT $(dt)"']
+    base = "\n".join(lines) + "\n"
+    fused = base.replace("fix integrate free nve/sphere\n", "") \
+                .replace("wirenet/damping 0.3", "wirenet/damping 0.3 integrate yes")
+    assert "nve/sphere" not in fused
+
+    def final(deck, name):
+        (tmp_path / name).mkdir()
+        out = lmp.run_deck(deck, tmp_path / name)
+        return np.loadtxt(tmp_path / name / "final.dump", skiprows=9), out
+
+    (a, out), (b, _) = final(base, "two"), final(fused, "one")
+    assert np.array_equal(a, b)
+    assert np.abs(a[:, 4:]).max() > 1e-3               # the nodes turn (torques on the beam)
+    if change == "dt_reset":                           # the time step did change
+        dt = [float(line.split()[1]) for line in out.splitlines() if line.startswith("DT ")]
+        assert len(dt) == 1 and abs(dt[0] / beam.DT - 1.0) > 0.01, dt
+    else:                                              # the mass change reaches the motion
+        light = final(base.replace("mass 0.05", "mass 0.5"), "light")[0]
+        assert np.abs(light[:, 1:4] - a[:, 1:4]).max() > 1e-6

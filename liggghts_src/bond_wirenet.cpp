@@ -391,7 +391,10 @@ void BondWirenet::init_record(const Entry &e, double length)
   }
 }
 
-__attribute__((always_inline)) inline void BondWirenet::compute_wire(const WireEntry &e, double dx, double dy, double dz, double r, int eflag)
+// f and plastic (the force array, the plastic work per type) come from the caller, read once per
+// compute: the rupture path's call would otherwise make the compiler reload them for every bond
+__attribute__((always_inline)) inline void BondWirenet::compute_wire(const WireEntry &e, double dx, double dy, double dz, double r, int eflag,
+                                                                     double **f, double *plastic)
 {
   double *h = e.h;
   double tension;
@@ -406,8 +409,8 @@ __attribute__((always_inline)) inline void BondWirenet::compute_wire(const WireE
   // Plastic work: only a growing largest elongation dissipates (unloading and reloading follow
   // the elastic line). Work along the envelope (trapezoid) minus the growth of the elastic energy.
   if (h[W_UMAX] > umax0)
-    plastic_work[e.type] += 0.5 * (fmax0 + h[W_FMAX]) * (h[W_UMAX] - umax0) -
-                    0.5 * (h[W_FMAX] * h[W_FMAX] - fmax0 * fmax0) / h[W_KU];
+    plastic[e.type] += 0.5 * (fmax0 + h[W_FMAX]) * (h[W_UMAX] - umax0) -
+                       0.5 * (h[W_FMAX] * h[W_FMAX] - fmax0 * fmax0) / h[W_KU];
   if (tension == 0.0) return;  // slack or shortened: no force, no damping
   double pull = tension;
   const double zeta = e.zeta;
@@ -423,7 +426,6 @@ __attribute__((always_inline)) inline void BondWirenet::compute_wire(const WireE
     damping_power[e.type] += (pull - tension) * vn;  // >= 0
   }
   const double fr = pull / r;
-  double **f = atom->f;
   f[e.i][0] += fr * dx; f[e.i][1] += fr * dy; f[e.i][2] += fr * dz;
   f[e.j][0] -= fr * dx; f[e.j][1] -= fr * dy; f[e.j][2] -= fr * dz;
   if (evflag) {
@@ -563,17 +565,18 @@ void BondWirenet::compute(int eflag, int vflag)
   if (history->list_version() != list_version) build_list();
   history->take_pair_forces();  // no-op unless fix wirenet/contactwork pair asked for them
 
-  double **x = atom->x;
+  double **x = atom->x, **f = atom->f;
   const size_t ntypes = (size_t)atom->nbondtypes + 1;
   plastic_work.assign(ntypes, 0.0);
   damping_power.assign(ntypes, 0.0);
   elastic_energy.assign(ntypes, 0.0);
+  double *plastic = plastic_work.data();
   for (const WireEntry &e : wire_list) {
     if (e.h[FixWirenetBonds::L0] < 0.0) continue;  // broken since the list was built
     const double dx = x[e.j][0] - x[e.i][0];
     const double dy = x[e.j][1] - x[e.i][1];
     const double dz = x[e.j][2] - x[e.i][2];
-    compute_wire(e, dx, dy, dz, sqrt(dx * dx + dy * dy + dz * dz), eflag);
+    compute_wire(e, dx, dy, dz, sqrt(dx * dx + dy * dy + dz * dz), eflag, f, plastic);
   }
   if (!beam_list.empty()) {
     const int npair = (int)beam_list.size();

@@ -174,8 +174,13 @@ void FixWirenetDamping::initial_integrate(int)
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
     const double dtfm = kick[2 * i];
-    for (int k = 0; k < 3; k++) v[i][k] += dtfm * f[i][k];
-    for (int k = 0; k < 3; k++) x[i][k] += dt * v[i][k];
+    // in locals, stored at the end (the arrays could alias: no reload between components)
+    const double *fi = f[i];
+    double *vi = v[i], *xi = x[i];
+    const double vl[3] = { vi[0] + dtfm * fi[0], vi[1] + dtfm * fi[1], vi[2] + dtfm * fi[2] };
+    const double xl[3] = { xi[0] + dt * vl[0], xi[1] + dt * vl[1], xi[2] + dt * vl[2] };
+    for (int k = 0; k < 3; k++) vi[k] = vl[k];
+    for (int k = 0; k < 3; k++) xi[k] = xl[k];
     if (listed) continue;
     const double *ti = t[i];
     if (ti[0] == 0.0 && ti[1] == 0.0 && ti[2] == 0.0) continue;  // see damp(): w += 0
@@ -239,12 +244,18 @@ void FixWirenetDamping::damp()
     double *fi = f[i], *vi = v[i];
     const double dtfm = KICK ? kick[2 * i] : 0.0;
     const double cm = VISC ? c * rmass[i] : 0.0;
+    // the atom's force and velocity in locals, stored at the end: the arrays could alias, so
+    // writing one component in place would make the compiler reload the next
+    double fl[3] = { fi[0], fi[1], fi[2] }, vl[3] = { vi[0], vi[1], vi[2] };
     for (int k = 0; k < 3; k++) {
-      fd[k] = local_damping(fi[k], vi[k], a);
-      if (VISC) fd[k] -= cm * vi[k];
-      fi[k] += fd[k];
-      if (KICK) vi[k] += dtfm * fi[k];
+      fd[k] = local_damping(fl[k], vl[k], a);
+      if (VISC) fd[k] -= cm * vl[k];
+      fl[k] += fd[k];
+      if (KICK) vl[k] += dtfm * fl[k];
     }
+    for (int k = 0; k < 3; k++) fi[k] = fl[k];
+    if (KICK)
+      for (int k = 0; k < 3; k++) vi[k] = vl[k];
     if (!t) {
       if (TALLY) fd[3] = fd[4] = fd[5] = 0.0;
       continue;
@@ -260,13 +271,17 @@ void FixWirenetDamping::damp()
     double *wi = w[i];
     const double dtirotate = KICK ? kick[2 * i + 1] : 0.0;
     const double ci = VISC ? 0.4 * cm * radius[i] * radius[i] : 0.0;
+    double tl[3] = { ti[0], ti[1], ti[2] }, wl[3] = { wi[0], wi[1], wi[2] };
     for (int k = 0; k < 3; k++) {
-      fd[3 + k] = local_damping(ti[k], wi[k], a);
-      if (VISC) fd[3 + k] -= ci * wi[k];
-      ti[k] += fd[3 + k];
-      if (KICK) wi[k] += dtirotate * ti[k];
+      fd[3 + k] = local_damping(tl[k], wl[k], a);
+      if (VISC) fd[3 + k] -= ci * wl[k];
+      tl[k] += fd[3 + k];
+      if (KICK) wl[k] += dtirotate * tl[k];
     }
-    if (integrate && (ti[0] != 0.0 || ti[1] != 0.0 || ti[2] != 0.0)) turning.push_back(i);
+    for (int k = 0; k < 3; k++) ti[k] = tl[k];
+    if (KICK)
+      for (int k = 0; k < 3; k++) wi[k] = wl[k];
+    if (integrate && (tl[0] != 0.0 || tl[1] != 0.0 || tl[2] != 0.0)) turning.push_back(i);
   }
   if (TALLY) ndamped = nlocal;
   if (integrate) {

@@ -102,22 +102,10 @@ void BondWirenet::init_style()
   ensure_history_fix();
   if (!duplicates_checked) check_duplicate_bonds();
 
-  // Ghost atoms must reach across the longest bond at its largest stretch before rupture.
-  // Beams: 1.5 covers any stretch a rope survives in practice (a steel rope with `strength`
-  // breaks at about 1 % of strain).
-  // Brakes: their elongations are absolute; the longest bond plus the largest reach of the brake
-  // bonds present (rupture elongation, or twice the stroke's end without `break`).
-  double stretch = 1.0;
-  bool any_brake = false;
   any_beam = any_strength = any_beam_damping = any_damping = 0;
   for (int t = 1; t <= atom->nbondtypes; t++) {
-    if (wires[t]) {
-      stretch = fmax(stretch, wires[t]->max_stretch());
-      if (wires[t]->params().damping > 0.0) any_damping = 1;
-    }
-    if (specs[t].kind == LawKind::BRAKE) any_brake = true;
+    if (wires[t] && wires[t]->params().damping > 0.0) any_damping = 1;
     if (beams[t]) {
-      stretch = fmax(stretch, 1.5);
       any_beam = 1;
       if (beams[t]->breakable()) any_strength = 1;
       if (beams[t]->damped()) any_beam_damping = any_damping = 1;
@@ -135,9 +123,8 @@ void BondWirenet::init_style()
     for (int t = 1; t <= atom->nbondtypes; t++) beam_types[t] = beams[t] ? 1 : 0;
   }
   history->use_orientations(beam_types);
-  const double lmax = history->max_bond_length_global();
-  const double brake_reach = any_brake ? brake_reach_present() : 0.0;
-  history->set_ghost_extent(fmax(lmax * stretch, lmax + brake_reach));
+  // the ghosts reach the longest bond now; the history fix follows it as the net stretches
+  history->set_bond_reach(history->max_bond_length_global());
   if (comm->me == 0) report_types();
 }
 
@@ -173,24 +160,6 @@ void BondWirenet::check_duplicate_bonds()
                "(it would act twice); remove one of the two lines", keys[k] >> 32, keys[k] & 0xffffffffLL);
       error->all(FLERR, msg);
     }
-}
-
-// The largest reach of a brake bond on any rank (collective; 0 without brake bonds): a deck
-// that declares a brake type for bonds it does not hold keeps its ghost cutoff.
-double BondWirenet::brake_reach_present() const
-{
-  std::vector<double> reach(atom->nbondtypes + 1, -1.0);
-  double mine = 0.0;
-  for (int i = 0; i < atom->nlocal; i++)
-    for (int m = 0; m < atom->num_bond[i]; m++) {
-      const int t = atom->bond_type[i][m];
-      if (t <= 0 || specs[t].kind != LawKind::BRAKE) continue;
-      if (reach[t] < 0.0) reach[t] = BrakeLaw(specs[t].brake).reach();
-      mine = fmax(mine, reach[t]);
-    }
-  double all = 0.0;
-  MPI_Allreduce(&mine, &all, 1, MPI_DOUBLE, MPI_MAX, world);
-  return all;
 }
 
 bool BondWirenet::beam_bonds_present() const

@@ -87,7 +87,6 @@ class BondWirenet : public Bond {
   void report_timestep();
   void ensure_history_fix();
   bool beam_bonds_present() const;  // any bond of a beam type on any rank (collective)
-  double brake_reach_present() const;  // largest reach of a brake bond on any rank (collective)
   void report_types();
   bool duplicates_checked;
   void check_duplicate_bonds();  // a bond listed twice in the data file (collective)

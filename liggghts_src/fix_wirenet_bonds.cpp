@@ -27,7 +27,7 @@ static const int RUPTURE_COLS = 8;
 
 FixWirenetBonds::FixWirenetBonds(LAMMPS *lmp, int narg, char **arg) :
   Fix(lmp, narg, arg),
-  hist(NULL), quat(NULL), rot(NULL), orient_flag(0), vel_flag(0), version(0), ghost_extent(0.0),
+  hist(NULL), quat(NULL), rot(NULL), orient_flag(0), vel_flag(0), version(0), ghost_extent(0.0), reach_grown(false),
   nbroken_total(0), nbroken_pending(0), elastic_step(-1), pair_wanted(false), maxlocal(0)
 {
   if (narg != 3) error->all(FLERR, "fix wirenet/bonds takes no arguments (it is created by bond_style wirenet)");
@@ -316,7 +316,15 @@ void FixWirenetBonds::remove_broken_bonds(bool scan_all)
 }
 
 void FixWirenetBonds::setup_pre_exchange() { remove_broken_bonds(true); }
-void FixWirenetBonds::pre_exchange() { remove_broken_bonds(false); }
+
+void FixWirenetBonds::pre_exchange()
+{
+  remove_broken_bonds(false);
+  // the slabs of the ghost exchange that follows (borders) take the grown reach; every rank
+  // decided alike (follow_bond_reach), and Comm::setup() is collective
+  if (reach_grown) comm->setup();
+  reach_grown = false;
+}
 void FixWirenetBonds::post_run() { remove_broken_bonds(false); }
 
 double FixWirenetBonds::compute_scalar()
@@ -380,14 +388,23 @@ double FixWirenetBonds::compute_array(int i, int j)
 /* ------------------------------------------------------------------------------------------- */
 
 // A bond partner must be a local or ghost atom; name the setting to raise instead of LIGGGHTS'
-// generic "Bond atoms missing".
-void FixWirenetBonds::check_partners_present()
+// generic "Bond atoms missing". Called right after the ghosts were acquired, when their
+// positions are exact: the longest local bond is measured on the way.
+double FixWirenetBonds::check_partners_present()
 {
   const int *num_bond = atom->num_bond;
   int **bond_atom = atom->bond_atom;
+  double **x = atom->x;
+  double longest_sq = 0.0;
   for (int i = 0; i < atom->nlocal; i++)
-    for (int m = 0; m < num_bond[i]; m++)
-      if (atom->map(bond_atom[i][m]) < 0) {
+    for (int m = 0; m < num_bond[i]; m++) {
+      const int j = atom->map(bond_atom[i][m]);
+      if (j >= 0) {
+        double d[3] = { x[j][0] - x[i][0], x[j][1] - x[i][1], x[j][2] - x[i][2] };
+        domain->minimum_image(d);
+        longest_sq = fmax(longest_sq, d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        continue;
+      }
         char msg[512];
         snprintf(msg, sizeof(msg),
                  "bond_style wirenet: bond %d-%d reaches beyond the ghost atoms (bond length allowed for: %g m) "
@@ -395,11 +412,37 @@ void FixWirenetBonds::check_partners_present()
                  "ghosts within C/2 + skin/2 + radius, so give C = twice the longest bond)",
                  atom->tag[i], bond_atom[i][m], ghost_extent, update->ntimestep);
         error->one(FLERR, msg);
-      }
+    }
+  return sqrt(longest_sq);
 }
 
-void FixWirenetBonds::setup_pre_neighbor() { check_partners_present(); find_beam_ends(); version++; }
-void FixWirenetBonds::pre_neighbor() { check_partners_present(); find_beam_ends(); version++; }
+// Until the next list build every atom moves less than skin/2, so no bond grows by more than the
+// skin, which LIGGGHTS adds to the reach (Comm::setup()). The reach therefore holds as long as
+// the longest bond at a build is within ghost_extent; past it, the reach grows before the next
+// build. A reach from the rupture strain instead (1.35-1.5 times the longest bond) gave a 2-rank
+// compound panel 40 % more ghosts to send every step.
+void FixWirenetBonds::follow_bond_reach(double longest_local)
+{
+  double longest = 0.0;
+  MPI_Allreduce(&longest_local, &longest, 1, MPI_DOUBLE, MPI_MAX, world);
+  if (longest <= ghost_extent) return;
+  set_bond_reach(longest);
+  reach_grown = true;
+}
+
+void FixWirenetBonds::setup_pre_neighbor()
+{
+  follow_bond_reach(check_partners_present());
+  find_beam_ends();
+  version++;
+}
+
+void FixWirenetBonds::pre_neighbor()
+{
+  follow_bond_reach(check_partners_present());
+  find_beam_ends();
+  version++;
+}
 
 // Comm::setup() takes the ghost cutoff as MAX(..., extend_cut_ghost() + skin). For spheres in an
 // orthogonal box (atom radius present) LIGGGHTS' granular border optimisation then copies only the
@@ -413,19 +456,8 @@ double FixWirenetBonds::extend_cut_ghost()
 
 double FixWirenetBonds::max_bond_length_global()
 {
-  // Once every bond is initialised its record holds the initial length: no gather needed.
-  double local[2] = { 0.0, 0.0 };  // { longest initial length, 1 if a bond is uninitialised }
-  for (int i = 0; i < atom->nlocal; i++)
-    for (int m = 0; m < atom->num_bond[i]; m++) {
-      const double l0 = hist[i][m * NHIST + L0];
-      if (l0 == 0.0) local[1] = 1.0;             // not initialised yet
-      else if (l0 > 0.0) local[0] = fmax(local[0], l0);  // l0 < 0: broken, awaiting removal
-    }
-  double global[2];
-  MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, world);
-  if (global[1] == 0.0) return global[0];
-
-  // Otherwise gather every atom's position once: bonds may span ranks before any ghost exists.
+  // Bonds may span ranks before any ghost exists (or after commands that moved atoms between
+  // runs): gather every atom's position once.
   const int nlocal = atom->nlocal;
   std::vector<double> mine(4 * nlocal);
   for (int i = 0; i < nlocal; i++) {
@@ -445,6 +477,7 @@ double FixWirenetBonds::max_bond_length_global()
   double lmax = 0.0;
   for (int i = 0; i < nlocal; i++)
     for (int m = 0; m < atom->num_bond[i]; m++) {
+      if (hist[i][m * NHIST + L0] < 0.0) continue;  // broken, awaiting removal
       auto it = where.find(atom->bond_atom[i][m]);
       if (it == where.end()) {
         char msg[256];

@@ -70,7 +70,9 @@ class FixWirenetBonds : public Fix {
   // the ghost atoms need their velocities and angular velocities before the forces (bond
   // damping); sent by this fix unless LIGGGHTS sends them ('communicate ... vel yes')
   void use_velocities(bool on) { vel_flag = on ? 1 : 0; }
-  void set_ghost_extent(double cut) { ghost_extent = cut; }
+  // The ghosts must reach the longest bond's partner: set from the longest bond now (at init),
+  // then grown at a neighbour-list build whenever a bond got longer than allowed for.
+  void set_bond_reach(double longest) { ghost_extent = longest * (1.0 + REACH_HEADROOM); }
   // flag the bond (i, slot m) as broken; it leaves the atom's bond list at the next exchange;
   // energy = the elastic energy the bond stored when it broke (released)
   void break_bond(int i, int m, const double *mid, double elongation, double energy = 0.0);
@@ -87,8 +89,8 @@ class FixWirenetBonds : public Fix {
   void request_pair_forces() { pair_wanted = true; }
   void take_pair_forces();
   const std::vector<double> &pair_forces() const { return pair_snap; }
-  // longest bond (collective): the largest initial length once every bond is initialised,
-  // else the largest current length, found by gathering positions (no ghosts exist yet)
+  // longest bond now (collective), from every atom's position gathered once: ghosts may be
+  // missing or out of date between runs
   double max_bond_length_global();
 
  private:
@@ -102,7 +104,11 @@ class FixWirenetBonds : public Fix {
   std::vector<double> end_mark;   // [nlocal + nghost] scratch of find_beam_ends
   enum CommMode { COMM_VELOCITIES, COMM_MARKS } comm_mode;  // what pack_comm sends
   long version;
+  // the bond length the ghosts reach (LIGGGHTS adds the skin: in one neighbour-list interval no
+  // bond grows by more); headroom above the longest bond so that growing is rare
+  static constexpr double REACH_HEADROOM = 0.05;
   double ghost_extent;
+  bool reach_grown;  // ghost_extent raised at the last list build: Comm::setup() before the next
   bigint nbroken_total;  // all ranks, since the bonds were created (restarted)
   int nbroken_pending;   // flagged on this rank, not yet removed from the bond lists
   // this rank's tallies since the bonds were created (rank 0 also holds a restart's totals),
@@ -122,7 +128,8 @@ class FixWirenetBonds : public Fix {
   void advance_orientations();
   void refresh_ghosts(bool advance);
   void remove_broken_bonds(bool scan_all);
-  void check_partners_present();
+  double check_partners_present();  // returns the longest local bond
+  void follow_bond_reach(double longest_local);
   void find_beam_ends();
 };
 

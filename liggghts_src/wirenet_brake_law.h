@@ -35,9 +35,6 @@ class BrakeLaw {
   double activation_elongation() const { return u_act_; }  // F_ACT / K
   double stroke_end() const { return u_end_; }             // F_ACT / K + S
   double rupture_elongation() const { return u_break_; }   // infinite without `break`
-  // The largest elongation the ghost cutoff allows for: the rupture elongation, or without
-  // `break` twice the elongation at the end of the stroke.
-  double reach() const { return breakable() ? u_break_ : 2.0 * u_end_; }
 
   // The wire-law parameters of the same envelope: points (F/K, F), (F/K + S, F) and a point on
   // the lock-up line (at F_BREAK, or one stroke further when the brake never breaks).

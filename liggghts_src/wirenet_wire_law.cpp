@@ -84,14 +84,6 @@ WireLaw::WireLaw(const WireLawParams &p) : p_(p)
     slope_[k] = (stress_[k + 1] - stress_[k]) / (strain_[k + 1] - strain_[k]);
 }
 
-double WireLaw::max_stretch() const
-{
-  // elongations in metres do not scale with l0: the caller bounds them (the brake's reach)
-  if (p_.force_elongation) return 1.0;
-  const double slack = p_.slack ? p_.lambda_u : 0.0;
-  return (1.0 + slack) * (1.0 + strain_.back());
-}
-
 double WireLaw::slack_draw(long seed, long tag1, long tag2)
 {
   if (seed == -1) return 1.0;  // deterministic worst case, used by the reference traces

@@ -63,9 +63,6 @@ class WireLaw {
 
   const WireLawParams &params() const { return p_; }
   double area() const { return area_; }
-  // Upper bound of (length / l0) before rupture, for the ghost cutoff (1 for a force-elongation
-  // table, whose elongations do not scale with l0).
-  double max_stretch() const;
 
   // Fill a bond's record from its initial length and the two atom tags (slack draw).
   void init_bond(double *h, double l0, long tag1, long tag2) const;

@@ -313,8 +313,8 @@ def test_restart_in_the_plateau_continues_identically(tmp_path):
 
 def test_long_stroke_across_two_ranks(tmp_path):
     """A 0.2 m brake whose nodes sit on two ranks, pulled 0.6 m (three times its length): the
-    ghost cutoff reaches the stretched brake (the partner stays visible) and the forces are the
-    one-rank run's."""
+    ghost reach, set at 1.05 times the bond's length when the run starts, grows with it at the
+    list builds (the partner stays visible) and the forces are the one-rank run's."""
     coeff = f"brake force {F_ACT!r} stroke 0.5 stiffness {K!r}"
     targets = [0.6]
     x = (-0.1, 0.1)

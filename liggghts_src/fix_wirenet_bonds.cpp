@@ -430,12 +430,7 @@ void FixWirenetBonds::follow_bond_reach(double longest_local)
   reach_grown = true;
 }
 
-void FixWirenetBonds::setup_pre_neighbor()
-{
-  follow_bond_reach(check_partners_present());
-  find_beam_ends();
-  version++;
-}
+void FixWirenetBonds::setup_pre_neighbor() { pre_neighbor(); }
 
 void FixWirenetBonds::pre_neighbor()
 {

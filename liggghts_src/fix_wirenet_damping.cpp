@@ -141,9 +141,9 @@ void FixWirenetDamping::reset_dt()
 
 // dt/2m and dt/2I of every local atom, the two divisions of each kick, once per neighbour-list
 // build (atoms change places only then) instead of twice per step. The same arithmetic as
-// nve/sphere, so the same bits. A mass set between runs is seen: a run's set-up builds the
-// lists (and 'run pre no' after a change is an input error, LIGGGHTS' run doc); a new time
-// step (reset_dt) clears them.
+// nve/sphere, so the same bits. reset_dt clears them: a new time step, and every run's init,
+// which sees a mass set between runs ('run pre no' after such a change is an input error,
+// LIGGGHTS' run doc). The build count alone would not: LIGGGHTS starts it from 0 at each set-up.
 const double *FixWirenetDamping::kick_factors()
 {
   const int nlocal = atom->nlocal;

@@ -260,9 +260,12 @@ def test_integrate_and_viscous_need_spheres(tmp_path, keywords, message):
 
 
 # The fused pass keeps each atom's dt/2m and dt/2I from one neighbour-list build to the next:
-# atoms re-sorted every 50 steps (a build every step) and a tip mass changed between runs; or
-# few builds and the time step changed within the run (fix dt/reset calls reset_dt).
+# atoms re-sorted every 50 steps (a build every step) and a tip mass changed between runs; the
+# mass changed between two runs without a build in either (LIGGGHTS counts the builds from 0
+# again at each run's set-up, so only the run's init clears the factors); or few builds and the
+# time step changed within the run (fix dt/reset calls reset_dt).
 CHANGES = {"sort_and_set_mass": (["neigh_modify delay 0 every 1 check no"], "sort 50 0.05", ["set group tip mass 0.05"]),
+           "set_mass_no_builds": (["neigh_modify delay 5000 every 5000 check no"], "sort 0 0", ["set group tip mass 0.05"]),
            "dt_reset": (["fix dtr free dt/reset 100 1e-6 3e-5 1e-7 units box"], "sort 0 0", [])}
 
 

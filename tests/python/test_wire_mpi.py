@@ -147,3 +147,28 @@ run 1000
         results[np_] = [r["T"] for r in lmp.thermo_rows(out)]
     assert results[1] == results[2]
     assert results[1][-1] > 1000.0  # loaded (elongation 10 mm on 0.2 m)
+
+
+def test_partner_beyond_the_ghosts_is_a_clear_error(tmp_path):
+    """The ghosts follow the longest bond from one list build to the next, which holds while no
+    atom moves more than half the skin in between. A deck that rebuilds only every 200 steps
+    without checking (`check no`) lets a bond across the rank boundary outgrow the reach (0.2 m
+    pulled 0.06 m in 200 steps): the run stops with one line that names the bond and the setting
+    to raise, not LIGGGHTS' generic 'Bond atoms missing'."""
+    atoms = [(1, 1, -0.02, 0.0, 0.0, 0.0108, 7850.0, 1), (2, 1, 0.18, 0.0, 0.0, 0.0108, 7850.0, 1)]
+    lmp.write_data(tmp_path / "long.data", atoms, [(1, 1, 1, 2)])
+    deck = lmp.PREAMBLE + f"""processors * 1 1
+read_data long.data
+neigh_modify delay 0 every 200 check no
+bond_style wirenet
+bond_coeff 1 wire diameter 0.0027 curve {netdeck.SW_CURVE}
+group pulled id 2
+fix pull pulled move linear 30 0 0
+timestep 1e-5
+run 400
+"""
+    rc, out = lmp.run_deck_rc(deck, tmp_path, np=2)
+    errors = lmp.error_lines(out)
+    assert rc != 0 and len(errors) == 1, out[-1500:]
+    assert "bond_style wirenet: bond 1-2 reaches beyond the ghost atoms" in errors[0], errors[0]
+    assert "at step 200" in errors[0] and "communicate single cutoff C" in errors[0], errors[0]

@@ -40,11 +40,12 @@ BOND_COLS = "c_bl[1] c_bl[2] c_bl[3] c_bl[4] c_bl[5] c_bl[6]"
 RUPTURE_COLS = " ".join(f"f_wirenet_bonds[{k}]" for k in range(1, 9))
 
 
-def make_net(workdir):
-    """Write workdir/net.data (and .json) with wirenet-gen; x margin room for the pull."""
+def make_net(workdir, margin_x=0.6):
+    """Write workdir/net.data (and .json) with wirenet-gen; x margin room for the pull (the box
+    is x = +-(0.3 + margin_x))."""
     workdir = Path(workdir)
     workdir.mkdir(parents=True, exist_ok=True)
-    subprocess.run([str(lmp.GEN), "hex", "--width", "0.6", "--height", "0.6", "--margin-x", "0.6",
+    subprocess.run([str(lmp.GEN), "hex", "--width", "0.6", "--height", "0.6", "--margin-x", repr(margin_x),
                     "--out", str(workdir / "net")], check=True, stdout=subprocess.DEVNULL)
     return workdir / "net.data"
 

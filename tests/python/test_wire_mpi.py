@@ -1,8 +1,9 @@
-"""bond_style wirenet gives the same answer on 1 and 2 MPI ranks.
+"""bond_style wirenet gives the same answer on 1, 2 and 3 MPI ranks.
 
-The net of netdeck.py is pulled along +x until wires break, with the rank split plane (x = 0)
-through the middle of the net: bonds straddle the two subdomains all the time, and nodes migrate
-from rank 0 to rank 1 as the net stretches. The per-bond history must travel with its atom, bonds
+The net of netdeck.py is pulled along +x until wires break, with the rank split planes (x = 0 on
+2 ranks, x = +-0.15 m on 3) through the net: bonds straddle the subdomains all the time, and nodes
+migrate between ranks as the net stretches. On 3 ranks the middle one exchanges ghosts with both
+neighbours in the same swap pair, which LIGGGHTS' communication (cmake/patches/0006) runs at once. The per-bond history must travel with its atom, bonds
 whose partner is a ghost must see the same elongation, and ruptures must be decided identically.
 
 Only the order of floating-point additions differs between the two decompositions (a node's force
@@ -12,6 +13,7 @@ comparison then checks the decomposition, not the chaos.
 """
 
 import numpy as np
+import pytest
 
 import lmp
 import netdeck
@@ -24,9 +26,9 @@ EVERY = 1000
 RTOL = 1e-10
 
 
-def run(tmp_path, np_):
+def run(tmp_path, np_, margin_x=0.6):
     wd = tmp_path / f"np{np_}"
-    netdeck.make_net(wd)
+    netdeck.make_net(wd, margin_x)
     deck = netdeck.setup(SPEED, GAMMA, DT) + "thermo 1000\nrun 0\n" + netdeck.outputs(EVERY) + f"run {STEPS}\n"
     out = lmp.run_deck(deck, wd, np=np_)
     return wd, out
@@ -36,11 +38,17 @@ def rel_err(a, b, floor):
     return np.abs(a - b) / np.maximum(np.maximum(np.abs(a), np.abs(b)), floor)
 
 
-def test_one_and_two_ranks_agree(tmp_path):
-    wd1, out1 = run(tmp_path, 1)
-    wd2, out2 = run(tmp_path, 2)
+# (ranks, x margin of the box): 3 ranks in a box of x = +-0.45 m cut at x = +-0.15 m, both planes
+# inside the net (x = -0.4 ... 0.2 m, the pulled edge ends at 0.4 m)
+LAYOUTS = [(2, 0.6), (3, 0.15)]
+
+
+@pytest.mark.parametrize("np_,margin_x", LAYOUTS, ids=[f"np{n}" for n, _ in LAYOUTS])
+def test_one_rank_and_more_agree(tmp_path, np_, margin_x):
+    wd1, out1 = run(tmp_path, 1, margin_x)
+    wd2, out2 = run(tmp_path, np_, margin_x)
     assert "1 by 1 by 1 MPI processor grid" in out1
-    assert "2 by 1 by 1 MPI processor grid" in out2
+    assert f"{np_} by 1 by 1 MPI processor grid" in out2
 
     b1, b2 = netdeck.bonds_by_step(wd1), netdeck.bonds_by_step(wd2)
     assert sorted(b1) == sorted(b2) == list(range(0, STEPS + 1, EVERY))
@@ -100,19 +108,23 @@ def test_one_and_two_ranks_agree(tmp_path):
             for t in (1, 2, 3):
                 assert rel_err(a[f"{name}_{t}"], b[f"{name}_{t}"], 1e-6) < 1e-9, (a["Step"], name, t)
 
-    # the decomposition did something: bonds straddle the split plane x = 0 throughout, and nodes
-    # crossed it (migrated from rank 0 to rank 1) during the run
+    # the decomposition did something: bonds straddle every split plane throughout, and nodes
+    # crossed them (migrated between ranks) during the run
+    half = 0.3 + margin_x
+    cuts = [-half + 2 * half * k / np_ for k in range(1, np_)]
     atoms = lmp.dump_atom_frames(wd2 / "atoms.dump")
-    side0 = None
+    rank0 = None
     crossed = set()
     for step, (cols, a) in sorted(atoms.items()):
         x = dict(zip(a[:, 0].astype(int), a[:, cols.index("x")]))
-        side = {i: xi >= 0.0 for i, xi in x.items()}
-        straddling = [1 for (i, j) in (tuple(r) for r in b2[step][:, :2].astype(int)) if side[i] != side[j]]
-        assert len(straddling) >= 5, f"step {step}: only {len(straddling)} bonds cross x = 0"
-        if side0 is None:
-            side0 = side
-        crossed |= {i for i in side if side[i] != side0[i]}
+        rank = {i: int(np.searchsorted(cuts, xi, side="right")) for i, xi in x.items()}
+        pairs = [tuple(r) for r in b2[step][:, :2].astype(int)]
+        for cut in cuts:
+            straddling = [1 for (i, j) in pairs if (x[i] >= cut) != (x[j] >= cut)]
+            assert len(straddling) >= 5, f"step {step}: only {len(straddling)} bonds cross x = {cut:g}"
+        if rank0 is None:
+            rank0 = rank
+        crossed |= {i for i in rank if rank[i] != rank0[i]}
     assert len(crossed) >= 5, f"only {len(crossed)} nodes changed rank"
 
 

@@ -25,7 +25,7 @@ static const char HISTORY_FIX_ID[] = "wirenet_bonds";
 
 BondWirenet::BondWirenet(LAMMPS *lmp) :
   Bond(lmp), nbeam(0), ncircular(0), list_version(-1), history(NULL), any_beam(0), any_strength(0),
-  any_beam_damping(0), any_damping(0), duplicates_checked(false) {}
+  any_beam_damping(0), any_damping(0), computes(0), plastic_synced(0), duplicates_checked(false) {}
 
 BondWirenet::~BondWirenet()
 {
@@ -360,26 +360,23 @@ void BondWirenet::init_record(const Entry &e, double length)
   }
 }
 
-// f and plastic (the force array, the plastic work per type) come from the caller, read once per
-// compute: the rupture path's call would otherwise make the compiler reload them for every bond
+// f (the force array) comes from the caller, read once per compute: the rupture path's call
+// would otherwise make the compiler reload it for every bond. The plastic work is a function of
+// the bond's state, summed when the tally is read (sync_plastic), not here.
 __attribute__((always_inline)) inline void BondWirenet::compute_wire(const WireEntry &e, double dx, double dy, double dz, double r, int eflag,
-                                                                     double **f, double *plastic)
+                                                                     double **f)
 {
   double *h = e.h;
   double tension;
-  const double umax0 = h[W_UMAX], fmax0 = h[W_FMAX];
   if (!e.law->tension(e.k, r - h[W_L0], h, tension)) {
     double **x = atom->x;
     const double mid[3] = { x[e.i][0] + 0.5 * dx, x[e.i][1] + 0.5 * dy, x[e.i][2] + 0.5 * dz };
-    // released: the elastic energy of the last state (on the envelope, at the largest elongation)
-    history->break_bond(e.i, e.m, mid, r - h[W_L0], 0.5 * fmax0 * fmax0 / h[W_KU]);
+    // a rupture leaves the state as it was: its plastic work goes to the tally for good, and the
+    // elastic energy of the last state (on the envelope, at the largest elongation) is released
+    history->add_tally(e.type, FixWirenetBonds::PLASTIC, e.law->plastic_work(e.k, h));
+    history->break_bond(e.i, e.m, mid, r - h[W_L0], 0.5 * h[W_FMAX] * h[W_FMAX] / h[W_KU]);
     return;
   }
-  // Plastic work: only a growing largest elongation dissipates (unloading and reloading follow
-  // the elastic line). Work along the envelope (trapezoid) minus the growth of the elastic energy.
-  if (h[W_UMAX] > umax0)
-    plastic[e.type] += 0.5 * (fmax0 + h[W_FMAX]) * (h[W_UMAX] - umax0) -
-                       0.5 * (h[W_FMAX] * h[W_FMAX] - fmax0 * fmax0) / h[W_KU];
   if (tension == 0.0) return;  // slack or shortened: no force, no damping
   double pull = tension;
   const double zeta = e.zeta;
@@ -534,18 +531,25 @@ void BondWirenet::compute(int eflag, int vflag)
   if (history->list_version() != list_version) build_list();
   history->take_pair_forces();  // no-op unless fix wirenet/contactwork pair asked for them
 
+  // A run's set-up: the tally is up to date (the last run's post_run, or a restart file's
+  // totals); the sum it follows starts from the bonds as they are now, with the laws as they are
+  // now (bond_coeff may have changed between runs).
+  if (update->setupflag) {
+    sum_plastic(plastic_seen);
+    plastic_synced = computes;
+  }
+  computes++;
+
   double **x = atom->x, **f = atom->f;
   const size_t ntypes = (size_t)atom->nbondtypes + 1;
-  plastic_work.assign(ntypes, 0.0);
   damping_power.assign(ntypes, 0.0);
   elastic_energy.assign(ntypes, 0.0);
-  double *plastic = plastic_work.data();
   for (const WireEntry &e : wire_list) {
     if (e.h[FixWirenetBonds::L0] < 0.0) continue;  // broken since the list was built
     const double dx = x[e.j][0] - x[e.i][0];
     const double dy = x[e.j][1] - x[e.i][1];
     const double dz = x[e.j][2] - x[e.i][2];
-    compute_wire(e, dx, dy, dz, sqrt(dx * dx + dy * dy + dz * dz), eflag, f, plastic);
+    compute_wire(e, dx, dy, dz, sqrt(dx * dx + dy * dy + dz * dz), eflag, f);
   }
   if (!beam_list.empty()) {
     const int npair = (int)beam_list.size();
@@ -562,13 +566,31 @@ void BondWirenet::compute(int eflag, int vflag)
     }
     if (any_beam_damping) damp_beams();
   }
-  for (size_t t = 1; t < ntypes; t++) {
-    history->add_tally((int)t, FixWirenetBonds::PLASTIC, plastic_work[t]);
-    // the set-up's force evaluation is not a step: nothing is dissipated over it
-    if (!update->setupflag) history->add_tally((int)t, FixWirenetBonds::DAMPING, damping_power[t] * update->dt);
-  }
+  // the set-up's force evaluation is not a step: nothing is dissipated over it
+  if (!update->setupflag)
+    for (size_t t = 1; t < ntypes; t++) history->add_tally((int)t, FixWirenetBonds::DAMPING, damping_power[t] * update->dt);
   if (eflag) history->set_elastic_energy(elastic_energy);
   if (update->setupflag) report_timestep();
+}
+
+void BondWirenet::sum_plastic(std::vector<double> &per_type) const
+{
+  per_type.assign((size_t)atom->nbondtypes + 1, 0.0);
+  for (const WireEntry &e : wire_list)
+    if (e.h[FixWirenetBonds::L0] > 0.0) per_type[e.type] += e.law->plastic_work(e.k, e.h);
+}
+
+// Each bond is on one rank at a time; a bond that moved to another rank leaves this rank's sum
+// and enters that rank's, so the ranks' changes add up to the change of the whole net. A bond
+// broken since the last call left the sum with its plastic work already in the tally (rupture).
+void BondWirenet::sync_plastic()
+{
+  if (plastic_synced == computes || !history) return;
+  sum_plastic(plastic_now);
+  for (size_t t = 1; t < plastic_now.size(); t++)
+    history->add_tally((int)t, FixWirenetBonds::PLASTIC, plastic_now[t] - plastic_seen[t]);
+  plastic_seen.swap(plastic_now);
+  plastic_synced = computes;
 }
 
 // Bond damping of the beam bonds (after their elastic forces; a broken bond's lane has zero

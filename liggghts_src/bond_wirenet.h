@@ -42,6 +42,10 @@ class BondWirenet : public Bond {
   struct BondState { double length0, length, tension, shear, moment; };
   bool bond_state(int i, int m, int j, BondState &s) const;
   const std::string &family(int type) const { return specs[type].family; }
+  // Bring the plastic-work tally of fix wirenet/bonds up to the bonds' state: adds the change of
+  // this rank's sum of WireLaw::plastic_work since the last call (called before the tally is
+  // read or written; a no-op when no compute() ran in between).
+  void sync_plastic();
 
  private:
   // The intact local bonds, rebuilt whenever atoms or bond slots change: wire bonds as entries
@@ -70,16 +74,20 @@ class BondWirenet : public Bond {
   int any_strength;      // a beam type with `strength`
   int any_beam_damping;  // a beam type with `damping` > 0
   int any_damping;       // any type with `damping` > 0
-  // per bond type, in this compute() (energy budget): plastic work of the wire and brake bonds,
-  // power dissipated by bond damping, elastic energy (with eflag)
-  std::vector<double> plastic_work, damping_power, elastic_energy;
+  // per bond type, in this compute() (energy budget): power dissipated by bond damping, elastic
+  // energy (with eflag)
+  std::vector<double> damping_power, elastic_energy;
+  // per bond type: this rank's sum of the intact wire and brake bonds' plastic work when the
+  // tally was last brought up to date (sync_plastic), and scratch for the sum now
+  std::vector<double> plastic_seen, plastic_now;
+  long computes, plastic_synced;  // compute() calls; the call the tally is up to date with
+  void sum_plastic(std::vector<double> &per_type) const;
 
   void allocate();
   void set_type(int type, const WireNet::BondTypeSpec &spec);
   void build_list();
   void init_record(const Entry &e, double length);
-  inline void compute_wire(const WireEntry &e, double dx, double dy, double dz, double r, int eflag, double **f,
-                           double *plastic);
+  inline void compute_wire(const WireEntry &e, double dx, double dy, double dz, double r, int eflag, double **f);
   template <int EVFLAG, bool STRENGTH, bool SECTION> void compute_beams(int eflag, int q0, int q1);
   void pad_last_pair(WireNet::BeamSection<WireNet::Lanes> *s);
   void break_beam(BeamPair &p, int k);

@@ -13,6 +13,7 @@
 #include <unordered_map>
 
 #include "atom.h"
+#include "bond_wirenet.h"
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
@@ -216,6 +217,7 @@ int FixWirenetBonds::unpack_border(int n, int first, double *buf)
 void FixWirenetBonds::write_restart(FILE *fp)
 {
   const int ntypes = atom->nbondtypes;
+  sync_tallies();
   std::vector<double> all(tally_mine.size());
   MPI_Reduce(tally_mine.data(), all.data(), (int)all.size(), MPI_DOUBLE, MPI_SUM, 0, world);
   if (comm->me != 0) return;
@@ -325,7 +327,19 @@ void FixWirenetBonds::pre_exchange()
   if (reach_grown) comm->setup();
   reach_grown = false;
 }
-void FixWirenetBonds::post_run() { remove_broken_bonds(false); }
+// The plastic-work tally is summed from the bonds' state when it is read (BondWirenet::
+// sync_plastic): before every read and write of the tallies, and at the end of a run, while the
+// bond style's list still matches the bonds.
+void FixWirenetBonds::sync_tallies()
+{
+  if (BondWirenet *bond = dynamic_cast<BondWirenet *>(force->bond)) bond->sync_plastic();
+}
+
+void FixWirenetBonds::post_run()
+{
+  sync_tallies();
+  remove_broken_bonds(false);
+}
 
 double FixWirenetBonds::compute_scalar()
 {
@@ -358,6 +372,7 @@ double FixWirenetBonds::tally_sum(int k) const
 double FixWirenetBonds::compute_vector(int n)
 {
   if (n == 0) return compute_scalar();
+  sync_tallies();
   return tally_sum(n - 1);
 }
 
@@ -379,6 +394,7 @@ double FixWirenetBonds::compute_array(int i, int j)
                         "where the bond energy is computed: output a compute pe bond at the same steps");
     mine = elastic_mine[type];
   } else {
+    sync_tallies();
     mine = tally_mine[(size_t)type * NTALLY + (j - 1)];
   }
   MPI_Allreduce(&mine, &all, 1, MPI_DOUBLE, MPI_SUM, world);

@@ -118,6 +118,7 @@ class FixWirenetBonds : public Fix {
   std::vector<double> elastic_mine;  // [type]: elastic energy at step elastic_step
   bigint elastic_step;
   double tally_sum(int k) const;
+  void sync_tallies();  // the plastic-work tally brought up to the bonds' state
   bool pair_wanted;
   std::vector<double> pair_snap;  // [6 * nlocal]: f and torque
 

@@ -82,6 +82,9 @@ WireLaw::WireLaw(const WireLawParams &p) : p_(p)
   slope_.assign(strain_.size(), 0.0);
   for (size_t k = 0; k + 1 < strain_.size(); ++k)
     slope_[k] = (stress_[k + 1] - stress_[k]) / (strain_[k + 1] - strain_[k]);
+  work_.assign(strain_.size(), 0.0);
+  for (size_t k = 0; k + 1 < strain_.size(); ++k)
+    work_[k + 1] = work_[k] + 0.5 * (stress_[k] + stress_[k + 1]) * (strain_[k + 1] - strain_[k]);
 }
 
 double WireLaw::slack_draw(long seed, long tag1, long tag2)
@@ -142,6 +145,26 @@ double WireLaw::tension_const(double u, const double *h) const
   if (u >= h[W_UMAX]) return envelope(k, u);
   const double f = h[W_FMAX] - k.ku * (h[W_UMAX] - u);
   return f > 0.0 ? f : 0.0;
+}
+
+// The envelope is F = k1 u up to u1, then F = c s(e) with u = a e + b: its integral is the
+// first triangle plus c a times the integral of the stress table from strain_[0] to e (linear
+// beyond the last point when the bond cannot break, as envelope() is).
+double WireLaw::envelope_work(const WireConst &k, double a, double u) const
+{
+  if (u <= k.u1) return 0.5 * k.k1 * u * u;
+  const double e = (u - k.b) * k.inv_a;
+  const int n = (int)strain_.size();
+  int j = 0;
+  while (j < n - 2 && e > strain_[j + 1]) ++j;
+  const double de = e - strain_[j];
+  return 0.5 * k.k1 * k.u1 * k.u1 + k.c * a * (work_[j] + de * (stress_[j] + 0.5 * slope_[j] * de));
+}
+
+double WireLaw::plastic_work(const WireConst &k, const double *h) const
+{
+  if (h[W_UMAX] <= 0.0) return 0.0;
+  return envelope_work(k, h[W_A], h[W_UMAX]) - 0.5 * h[W_FMAX] * h[W_FMAX] / k.ku;
 }
 
 }  // namespace WireNet

@@ -74,16 +74,23 @@ class WireLaw {
   inline bool tension(const WireConst &k, double u, double *h, double &force) const;
   // Tension without touching the state (output).
   double tension_const(double u, const double *h) const;
+  // Plastic work of a bond so far: the work along the envelope up to the largest elongation
+  // reached (W_UMAX) less the elastic energy unloading from there gives back. A function of the
+  // state (unloading and reloading follow one elastic line), exact for the piecewise-linear
+  // envelope, so the tally is summed when it is read, not in the force loop. k: prepare(h).
+  double plastic_work(const WireConst &k, const double *h) const;
 
   // Slack fraction r in [0,1] (triangular, mode 1/2) drawn from the seed and the two tags.
   static double slack_draw(long seed, long tag1, long tag2);
 
  private:
   inline double envelope(const WireConst &k, double u) const;
+  double envelope_work(const WireConst &k, double a, double u) const;  // integral of the envelope, 0 to u
 
   WireLawParams p_;
   double area_ = 0.0;
   std::vector<double> strain_, stress_, slope_;  // effective table (derived / slack applied)
+  std::vector<double> work_;  // [j]: integral of stress over strain from strain_[0] to strain_[j]
   int elastic_point_ = 0;  // table index of the point that defines the unloading stiffness
   double rupture_strain_ = 0.0;  // last table strain, or infinity (not breakable)
 };

@@ -532,8 +532,10 @@ void BondWirenet::compute(int eflag, int vflag)
   history->take_pair_forces();  // no-op unless fix wirenet/contactwork pair asked for them
 
   // A run's set-up: the tally is up to date (the last run's post_run, or a restart file's
-  // totals); the sum it follows starts from the bonds as they are now, with the laws as they are
-  // now (bond_coeff may have changed between runs).
+  // totals); the sum it follows starts from the bonds present now, with the laws as they are now.
+  // (A bond_coeff between runs that moves a yielded wire's envelope at its largest elongation
+  // changes its force there without work: its elastic energy and plastic work then move by
+  // opposite amounts, and their sum stays.)
   if (update->setupflag) {
     sum_plastic(plastic_seen);
     plastic_synced = computes;

@@ -154,9 +154,7 @@ double WireLaw::envelope_work(const WireConst &k, double a, double u) const
 {
   if (u <= k.u1) return 0.5 * k.k1 * u * u;
   const double e = (u - k.b) * k.inv_a;
-  const int n = (int)strain_.size();
-  int j = 0;
-  while (j < n - 2 && e > strain_[j + 1]) ++j;
+  const int j = segment(e);
   const double de = e - strain_[j];
   return 0.5 * k.k1 * k.u1 * k.u1 + k.c * a * (work_[j] + de * (stress_[j] + 0.5 * slope_[j] * de));
 }

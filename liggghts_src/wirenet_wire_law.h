@@ -85,6 +85,7 @@ class WireLaw {
 
  private:
   inline double envelope(const WireConst &k, double u) const;
+  inline int segment(double e) const;  // table segment of strain e (the last one beyond it)
   double envelope_work(const WireConst &k, double a, double u) const;  // integral of the envelope, 0 to u
 
   WireLawParams p_;
@@ -97,13 +98,19 @@ class WireLaw {
 
 // ----------------------------------------------------------------------------------------------
 
+inline int WireLaw::segment(double e) const
+{
+  const int n = (int)strain_.size();
+  int j = 0;
+  while (j < n - 2 && e > strain_[j + 1]) ++j;
+  return j;
+}
+
 inline double WireLaw::envelope(const WireConst &k, double u) const
 {
   if (u <= k.u1) return k.k1 * u;
   const double e = (u - k.b) * k.inv_a;
-  const int n = (int)strain_.size();
-  int j = 0;
-  while (j < n - 2 && e > strain_[j + 1]) ++j;
+  const int j = segment(e);
   return k.c * (stress_[j] + slope_[j] * (e - strain_[j]));
 }
 

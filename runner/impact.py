@@ -7,7 +7,7 @@ Deck: inputs/impact.in. Beyond the paper, every case gets:
 - an energy budget whose terms are each measured by their own mechanism (energy.csv,
   case.json "energy"): block and net kinetic energy, gravity potential energy of both (from the
   positions), elastic energy of the bonds (bond style energy tally), plastic work of the wires
-  (tallied in the wire-law evaluation), energy released by broken bonds (fix wirenet/bonds),
+  (from each wire's largest elongation, fix wirenet/bonds), energy released by broken bonds (fix wirenet/bonds),
   work of the local damping (fix wirenet/damping), energy dissipated by bond damping
   (bond_coeff ... damping ZETA, f_wirenet_bonds[4]), work of the contact forces on the nodes
   (fix wirenet/contactwork around fix wall/gran) and on the block (fix wirenet/rigidmesh), work

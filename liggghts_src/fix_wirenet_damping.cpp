@@ -144,19 +144,29 @@ void FixWirenetDamping::reset_dt()
 // nve/sphere, so the same bits. reset_dt clears them: a new time step, and every run's init,
 // which sees a mass set between runs ('run pre no' after such a change is an input error,
 // LIGGGHTS' run doc). The build count alone would not: LIGGGHTS starts it from 0 at each set-up.
-const double *FixWirenetDamping::kick_factors()
+// dt/2m is kept once per force component, so that the kick is a pass over the flat arrays.
+void FixWirenetDamping::renew_kicks()
 {
   const int nlocal = atom->nlocal;
-  if (kicks_at == neighbor->ncalls && kicks.size() == 2 * (size_t)nlocal) return kicks.data();
-  kicks.resize(2 * (size_t)nlocal);
+  if (kicks_at == neighbor->ncalls && kick_w.size() == (size_t)nlocal) return;
+  kick_v.resize(3 * (size_t)nlocal);
+  kick_w.resize((size_t)nlocal);
   const double *rmass = atom->rmass, *radius = atom->radius;
   const double dtfrotate = dtf / 0.4;   // nve/sphere's I = 0.4 m r^2
   for (int i = 0; i < nlocal; i++) {
-    kicks[2 * i] = dtf / rmass[i];
-    kicks[2 * i + 1] = dtfrotate / (radius[i] * radius[i] * rmass[i]);
+    const double dtfm = dtf / rmass[i];
+    for (int k = 0; k < 3; k++) kick_v[3 * i + k] = dtfm;
+    kick_w[i] = dtfrotate / (radius[i] * radius[i] * rmass[i]);
   }
   kicks_at = neighbor->ncalls;
-  return kicks.data();
+}
+
+// The first half kick of atom i's angular velocity.
+inline void FixWirenetDamping::kick_torque(int i)
+{
+  const double *ti = atom->torque[i];
+  double *wi = atom->omega[i];
+  for (int k = 0; k < 3; k++) wi[k] += kick_w[i] * ti[k];
 }
 
 // integrate: the first half kick and the drift, with the damped force of the last step (as
@@ -165,30 +175,45 @@ void FixWirenetDamping::initial_integrate(int)
 {
   const int nlocal = atom->nlocal;
   const int *mask = atom->mask;
-  double **x = atom->x, **v = atom->v, **f = atom->f, **w = atom->omega, **t = atom->torque;
-  const double *kick = kick_factors();
+  double **x = atom->x, **v = atom->v, **f = atom->f, **t = atom->torque;
+  renew_kicks();
   const double dt = dtv;   // a local: the writes below could alias the member
+  if (igroup == 0 && nlocal > 0) {
+    // group all: every component's kick and drift is independent of the others, one
+    // elementwise pass over the flat arrays (LAMMPS' 2-d arrays are one block), which the
+    // compiler vectorises
+    double *__restrict xf = x[0], *__restrict vf = v[0];
+    const double *__restrict ff = f[0], *__restrict kv = kick_v.data();
+    for (int c = 0; c < 3 * nlocal; c++) {
+      const double vl = vf[c] + kv[c] * ff[c];
+      vf[c] = vl;
+      xf[c] += dt * vl;
+    }
+  } else {
+    for (int i = 0; i < nlocal; i++) {
+      if (!(mask[i] & groupbit)) continue;
+      // in locals, stored at the end (the arrays could alias: no reload between components)
+      const double *fi = f[i], *kv = &kick_v[3 * i];
+      double *vi = v[i], *xi = x[i];
+      const double vl[3] = { vi[0] + kv[0] * fi[0], vi[1] + kv[1] * fi[1], vi[2] + kv[2] * fi[2] };
+      const double xl[3] = { xi[0] + dt * vl[0], xi[1] + dt * vl[1], xi[2] + dt * vl[2] };
+      for (int k = 0; k < 3; k++) vi[k] = vl[k];
+      for (int k = 0; k < 3; k++) xi[k] = xl[k];
+    }
+  }
   // the atoms with a torque, listed by the damping at the end of the last step (atoms move
   // between ranks and places only after this pass); otherwise each atom's torque is looked at
-  const bool listed = turning_step == update->ntimestep - 1 && turning_nlocal == nlocal;
+  // (w += 0 where there is none)
+  if (turning_step == update->ntimestep - 1 && turning_nlocal == nlocal) {
+    for (const int i : turning) kick_torque(i);
+    return;
+  }
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
-    const double dtfm = kick[2 * i];
-    // in locals, stored at the end (the arrays could alias: no reload between components)
-    const double *fi = f[i];
-    double *vi = v[i], *xi = x[i];
-    const double vl[3] = { vi[0] + dtfm * fi[0], vi[1] + dtfm * fi[1], vi[2] + dtfm * fi[2] };
-    const double xl[3] = { xi[0] + dt * vl[0], xi[1] + dt * vl[1], xi[2] + dt * vl[2] };
-    for (int k = 0; k < 3; k++) vi[k] = vl[k];
-    for (int k = 0; k < 3; k++) xi[k] = xl[k];
-    if (listed) continue;
     const double *ti = t[i];
-    if (ti[0] == 0.0 && ti[1] == 0.0 && ti[2] == 0.0) continue;  // see damp(): w += 0
-    for (int k = 0; k < 3; k++) w[i][k] += kick[2 * i + 1] * ti[k];
+    if (ti[0] == 0.0 && ti[1] == 0.0 && ti[2] == 0.0) continue;
+    kick_torque(i);
   }
-  if (listed)
-    for (const int i : turning)
-      for (int k = 0; k < 3; k++) w[i][k] += kick[2 * i + 1] * t[i][k];
 }
 
 void FixWirenetDamping::final_integrate()
@@ -223,71 +248,123 @@ void FixWirenetDamping::damp()
   // the per-atom arrays are read once: the force writes below could alias atom's members, which
   // would make the compiler reload them at every atom
   double **f = atom->f, **v = atom->v;
-  double **t = rotational ? atom->torque : NULL, **w = rotational ? atom->omega : NULL;
-  const double *rmass = VISC ? atom->rmass : NULL, *radius = VISC ? atom->radius : NULL;
-  const double *kick = KICK ? kick_factors() : NULL;
+  const double *rmass = VISC ? atom->rmass : NULL;
+  if (KICK) renew_kicks();
   const double a = alpha, c = viscous;
   // every entry is written below: grow only, no clearing pass
-  if (TALLY && fdamp.size() < 6 * (size_t)nlocal) fdamp.resize(6 * (size_t)nlocal);
-  double scratch[6];
-  double *fd = TALLY ? fdamp.data() : scratch;
+  if (TALLY && fdamp_f.size() < 3 * (size_t)nlocal) {
+    fdamp_f.resize(3 * (size_t)nlocal);
+    fdamp_t.resize(3 * (size_t)nlocal);
+  }
   if (integrate) {
     turning.clear();
     turning.reserve(nlocal);   // no allocation in the loop
   }
-  for (int i = 0; i < nlocal; i++, fd += TALLY ? 6 : 0) {
-    if (!(mask[i] & groupbit)) {
-      if (TALLY)
-        for (int k = 0; k < 6; k++) fd[k] = 0.0;
-      continue;
+  if (!VISC && igroup == 0) {
+    if (nlocal > 0) damp_forces_flat<TALLY, KICK>();
+    if (rotational)
+      for (int i = 0; i < nlocal; i++) damp_torque<TALLY, KICK, false>(i, 0.0);
+    else if (TALLY)
+      for (int i = 0; i < 3 * nlocal; i++) fdamp_t[i] = 0.0;
+  } else {
+    for (int i = 0; i < nlocal; i++) {
+      double *fd = TALLY ? &fdamp_f[3 * i] : NULL, *td = TALLY ? &fdamp_t[3 * i] : NULL;
+      if (!(mask[i] & groupbit)) {
+        if (TALLY)
+          for (int k = 0; k < 3; k++) fd[k] = td[k] = 0.0;
+        continue;
+      }
+      double *fi = f[i], *vi = v[i];
+      const double dtfm = KICK ? kick_v[3 * i] : 0.0;
+      const double cm = VISC ? c * rmass[i] : 0.0;
+      // the atom's force and velocity in locals, stored at the end: the arrays could alias, so
+      // writing one component in place would make the compiler reload the next
+      double fl[3] = { fi[0], fi[1], fi[2] }, vl[3] = { vi[0], vi[1], vi[2] };
+      for (int k = 0; k < 3; k++) {
+        double d = local_damping(fl[k], vl[k], a);
+        if (VISC) d -= cm * vl[k];
+        if (TALLY) fd[k] = d;
+        fl[k] += d;
+        if (KICK) vl[k] += dtfm * fl[k];
+      }
+      for (int k = 0; k < 3; k++) fi[k] = fl[k];
+      if (KICK)
+        for (int k = 0; k < 3; k++) vi[k] = vl[k];
+      if (rotational) damp_torque<TALLY, KICK, VISC>(i, cm);
+      else if (TALLY)
+        for (int k = 0; k < 3; k++) td[k] = 0.0;
     }
-    double *fi = f[i], *vi = v[i];
-    const double dtfm = KICK ? kick[2 * i] : 0.0;
-    const double cm = VISC ? c * rmass[i] : 0.0;
-    // the atom's force and velocity in locals, stored at the end: the arrays could alias, so
-    // writing one component in place would make the compiler reload the next
-    double fl[3] = { fi[0], fi[1], fi[2] }, vl[3] = { vi[0], vi[1], vi[2] };
-    for (int k = 0; k < 3; k++) {
-      fd[k] = local_damping(fl[k], vl[k], a);
-      if (VISC) fd[k] -= cm * vl[k];
-      fl[k] += fd[k];
-      if (KICK) vl[k] += dtfm * fl[k];
-    }
-    for (int k = 0; k < 3; k++) fi[k] = fl[k];
-    if (KICK)
-      for (int k = 0; k < 3; k++) vi[k] = vl[k];
-    if (!t) {
-      if (TALLY) fd[3] = fd[4] = fd[5] = 0.0;
-      continue;
-    }
-    double *ti = t[i];
-    // No torque (a node held by wires alone, which pull along their axis) and no viscous part:
-    // no damping torque and no kick, and its angular velocity is not read. The same bits as the
-    // full update, in which -alpha |0| sign(w) and dt/2I * 0 add only zeros (a zero's sign aside).
-    if (!VISC && ti[0] == 0.0 && ti[1] == 0.0 && ti[2] == 0.0) {
-      if (TALLY) fd[3] = fd[4] = fd[5] = 0.0;
-      continue;
-    }
-    double *wi = w[i];
-    const double dtirotate = KICK ? kick[2 * i + 1] : 0.0;
-    const double ci = VISC ? 0.4 * cm * radius[i] * radius[i] : 0.0;
-    double tl[3] = { ti[0], ti[1], ti[2] }, wl[3] = { wi[0], wi[1], wi[2] };
-    for (int k = 0; k < 3; k++) {
-      fd[3 + k] = local_damping(tl[k], wl[k], a);
-      if (VISC) fd[3 + k] -= ci * wl[k];
-      tl[k] += fd[3 + k];
-      if (KICK) wl[k] += dtirotate * tl[k];
-    }
-    for (int k = 0; k < 3; k++) ti[k] = tl[k];
-    if (KICK)
-      for (int k = 0; k < 3; k++) wi[k] = wl[k];
-    if (integrate && (tl[0] != 0.0 || tl[1] != 0.0 || tl[2] != 0.0)) turning.push_back(i);
   }
   if (TALLY) ndamped = nlocal;
   if (integrate) {
     turning_step = update->ntimestep;
     turning_nlocal = nlocal;
   }
+}
+
+// Group all, no viscous part: each force component's damping and kick depends on that
+// component alone, so the forces are one elementwise pass over the flat arrays, two components
+// at a time (the same operations in the same order as damp()'s per-atom loop, so the same
+// bits). The torques follow per atom: most nodes of a net have none.
+template <bool TALLY, bool KICK>
+void FixWirenetDamping::damp_forces_flat()
+{
+  const int n = 3 * atom->nlocal;
+  double *__restrict f = atom->f[0], *__restrict v = atom->v[0];
+  const double *__restrict kv = KICK ? kick_v.data() : NULL;
+  double *__restrict fd = TALLY ? fdamp_f.data() : NULL;
+  const double a = alpha;
+  int c = 0;
+#if defined(__SSE2__)
+  const __m128d av = _mm_set1_pd(a);
+  for (; c + 2 <= n; c += 2) {
+    const __m128d vl = _mm_loadu_pd(v + c);
+    const __m128d d = local_damping(_mm_loadu_pd(f + c), vl, av);
+    const __m128d fl = _mm_add_pd(_mm_loadu_pd(f + c), d);
+    if (TALLY) _mm_storeu_pd(fd + c, d);
+    _mm_storeu_pd(f + c, fl);
+    if (KICK) _mm_storeu_pd(v + c, _mm_add_pd(vl, _mm_mul_pd(_mm_loadu_pd(kv + c), fl)));
+  }
+#endif
+  for (; c < n; c++) {   // the last component (3 nlocal odd), or all without SSE2
+    const double vl = v[c];
+    const double d = local_damping(f[c], vl, a);
+    const double fl = f[c] + d;
+    if (TALLY) fd[c] = d;
+    f[c] = fl;
+    if (KICK) v[c] = vl + kv[c] * fl;
+  }
+}
+
+// Atom i's damping torque (with the viscous part cm = C m) and, with KICK, its second half kick.
+// No torque (a node held by wires alone, which pull along their axis) and no viscous part:
+// no damping torque and no kick, and its angular velocity is not read. The same bits as the
+// full update, in which -alpha |0| sign(w) and dt/2I * 0 add only zeros (a zero's sign aside).
+template <bool TALLY, bool KICK, bool VISC>
+inline void FixWirenetDamping::damp_torque(int i, double cm)
+{
+  double *ti = atom->torque[i];
+  double *td = TALLY ? &fdamp_t[3 * i] : NULL;
+  if (!VISC && ti[0] == 0.0 && ti[1] == 0.0 && ti[2] == 0.0) {
+    if (TALLY) td[0] = td[1] = td[2] = 0.0;
+    return;
+  }
+  double *wi = atom->omega[i];
+  const double dtirotate = KICK ? kick_w[i] : 0.0;
+  const double radius = VISC ? atom->radius[i] : 0.0;
+  const double ci = VISC ? 0.4 * cm * radius * radius : 0.0;
+  double tl[3] = { ti[0], ti[1], ti[2] }, wl[3] = { wi[0], wi[1], wi[2] };
+  for (int k = 0; k < 3; k++) {
+    double d = local_damping(tl[k], wl[k], alpha);
+    if (VISC) d -= ci * wl[k];
+    if (TALLY) td[k] = d;
+    tl[k] += d;
+    if (KICK) wl[k] += dtirotate * tl[k];
+  }
+  for (int k = 0; k < 3; k++) ti[k] = tl[k];
+  if (KICK)
+    for (int k = 0; k < 3; k++) wi[k] = wl[k];
+  if (integrate && (tl[0] != 0.0 || tl[1] != 0.0 || tl[2] != 0.0)) turning.push_back(i);
 }
 
 // F(t+dt) . v(t+dt) dt with the full-step velocity: summed over all forces this equals the change of
@@ -302,8 +379,8 @@ void FixWirenetDamping::end_of_step()
   // this step's sums in locals (the members would be written back at every atom), then added to
   // the totals: the totals' round-off differs from an atom-by-atom sum in the last digits
   double work_f = 0.0, work_t = 0.0, jx = 0.0, jy = 0.0, jz = 0.0;
-  const double *fd = fdamp.data();
-  for (int i = 0; i < ndamped; i++, fd += 6) {
+  const double *fd = fdamp_f.data(), *td = fdamp_t.data();
+  for (int i = 0; i < ndamped; i++, fd += 3, td += 3) {
     const double *vi = v[i];
     work_f += dt * (fd[0] * vi[0] + fd[1] * vi[1] + fd[2] * vi[2]);
     jx += dt * fd[0];
@@ -311,7 +388,7 @@ void FixWirenetDamping::end_of_step()
     jz += dt * fd[2];
     if (w) {
       const double *wi = w[i];
-      work_t += dt * (fd[3] * wi[0] + fd[4] * wi[1] + fd[5] * wi[2]);
+      work_t += dt * (td[0] * wi[0] + td[1] * wi[1] + td[2] * wi[2]);
     }
   }
   work_mine[0] += work_f;

@@ -45,9 +45,11 @@ class FixWirenetDamping : public Fix {
   // velocity, torque and angular velocity instead of two (both passes are bound by memory)
   bool integrate;
   double dtv, dtf;            // integrate: dt and dt/2
-  std::vector<double> kicks;  // integrate: dt/2m and dt/2I per local atom (kick_factors)
+  // integrate: dt/2m per force component (3 per local atom, so that the kick is one elementwise
+  // pass) and dt/2I per local atom (renew_kicks)
+  std::vector<double> kick_v, kick_w;
   bigint kicks_at;            // the neighbour-list build they belong to; -1 = to be worked out
-  const double *kick_factors();
+  void renew_kicks();
   // integrate: the group's local atoms with a torque after the damping (most nodes of a net
   // have none: wires pull along their axis), for the next first half step's rotational kicks
   std::vector<int> turning;
@@ -55,9 +57,12 @@ class FixWirenetDamping : public Fix {
   int turning_nlocal;
   template <bool KICK> void damp_all();
   template <bool TALLY, bool KICK, bool VISC> void damp();
-  // Damping force and torque of this step per local atom (6 doubles each), kept from post_force
+  template <bool TALLY, bool KICK> void damp_forces_flat();
+  template <bool TALLY, bool KICK, bool VISC> void damp_torque(int i, double cm);
+  void kick_torque(int i);
+  // Damping force and torque of this step per local atom (3 doubles each), kept from post_force
   // to end_of_step, when the velocities of the same instant are known.
-  std::vector<double> fdamp;
+  std::vector<double> fdamp_f, fdamp_t;
   int ndamped;                // local atoms in fdamp; -1 = nothing to account this step
   double work_mine[2];        // work of damping forces / torques done on this rank's atoms
   double work_all[2];         // reduced over ranks (by reduce_work)

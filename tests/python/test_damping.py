@@ -304,3 +304,35 @@ def test_integrate_yes_is_nve_sphere_with_the_damping_on_turning_beams(tmp_path,
     else:                                              # the mass change reaches the motion
         light = final(base.replace("mass 0.05", "mass 0.5"), "light")[0]
         assert np.abs(light[:, 1:4] - a[:, 1:4]).max() > 1e-6
+
+
+@pytest.mark.parametrize("integrate", ["yes", "no"])
+def test_group_all_pass_is_the_per_atom_pass_to_the_bit(tmp_path, integrate):
+    """Group all takes the flat pass (the forces two components at a time, the torques per atom
+    after them), any other group the per-atom loop. A free beam of 11 nodes (33 force components:
+    the odd last one too) swung and twisted by a tip load, torques on every node, with the damping
+    as the integrator or after nve/sphere: positions, velocities, angular velocities and the
+    damping's work and impulse are the same to the bit whichever pass ran."""
+    import test_beam_dynamics as beam
+    data = beam.make_beam(tmp_path, n=10)
+    lines = beam.setup_lines(data)
+    integrator = "fix integrate free nve/sphere"
+    assert integrator in lines
+    lines[lines.index(integrator)] = "" if integrate == "yes" else "fix integrate all nve/sphere"
+    lines += ["group everyone type 1 2 3", "fix load tip addforce 0.01 0.02 -0.05",
+              f"fix damp GROUP wirenet/damping 0.3 tally yes integrate {integrate}",
+              "thermo_style custom step f_damp[1] f_damp[2] f_damp[3] f_damp[4] f_damp[5]",
+              "thermo_modify format float %.17g", "thermo 1000", "run 2000",
+              "write_dump all custom final.dump id x y z vx vy vz omegax omegay omegaz modify sort id"]
+    deck = "\n".join(lines) + "\n"
+
+    def final(group):
+        (tmp_path / group).mkdir()
+        rows = lmp.thermo_rows(lmp.run_deck(deck.replace("GROUP", group), tmp_path / group))
+        work = np.array([[r[k] for k in sorted(r) if k != "Step"] for r in rows])
+        return np.loadtxt(tmp_path / group / "final.dump", skiprows=9), work
+
+    (a, wa), (b, wb) = final("all"), final("everyone")
+    assert a.shape == (11, 10) and np.array_equal(a, b)
+    assert wa.shape == (3, 5) and np.array_equal(wa, wb)
+    assert np.abs(a[:, 7:]).min() > 0.0 and wa[-1, 1] < 0.0   # every node turns; torques damped

@@ -34,7 +34,6 @@ FixWirenetBonds::FixWirenetBonds(LAMMPS *lmp, int narg, char **arg) :
   if (narg != 3) error->all(FLERR, "fix wirenet/bonds takes no arguments (it is created by bond_style wirenet)");
   if (!atom->molecular) error->all(FLERR, "fix wirenet/bonds needs an atom style with bonds");
 
-  comm_mode = COMM_VELOCITIES;
   restart_global = 1;
   restart_peratom = 1;
   // Not create_attribute: LIGGGHTS' Modify::setup() would then re-initialise every atom of a new
@@ -161,14 +160,10 @@ void FixWirenetBonds::unpack_restart(int nlocal, int nth)
 int FixWirenetBonds::size_restart(int) { return maxsize_restart(); }
 int FixWirenetBonds::maxsize_restart() { return 1 + nslots * NHIST + 4; }
 
-// Forward messages: the beam-end marks (find_beam_ends), or velocities and angular velocities
-// when LIGGGHTS does not send them itself (bond damping, orientations without 'vel yes').
+// Forward messages: velocities and angular velocities when LIGGGHTS does not send them itself
+// (bond damping, orientations without 'vel yes').
 int FixWirenetBonds::pack_comm(int n, int *list, double *buf, int, int *)
 {
-  if (comm_mode == COMM_MARKS) {
-    for (int k = 0; k < n; k++) buf[k] = end_mark[list[k]];
-    return 1;
-  }
   int m = 0;
   double **v = atom->v, **omega = atom->omega;
   for (int k = 0; k < n; k++) {
@@ -181,10 +176,6 @@ int FixWirenetBonds::pack_comm(int n, int *list, double *buf, int, int *)
 
 void FixWirenetBonds::unpack_comm(int n, int first, double *buf)
 {
-  if (comm_mode == COMM_MARKS) {
-    for (int k = 0; k < n; k++) end_mark[first + k] = buf[k];
-    return;
-  }
   int m = 0;
   double **v = atom->v, **omega = atom->omega;
   for (int i = first; i < first + n; i++) {
@@ -548,10 +539,13 @@ void FixWirenetBonds::refresh_rotations()
   }
 }
 
-// The atoms at either end of a beam bond, local and ghost. Bonds are stored once (newton_bond
-// on), so the end that is a ghost here is marked and the mark sent to its owner, and the owners'
-// marks then go to every ghost image of theirs. Called after every exchange (local indices
-// change there) with the ghosts and the atom map current.
+// The atoms whose orientation matters: local atoms at either end of any beam bond (an owner's
+// orientation goes to its ghost images at borders), and the ghost ends of this rank's own beam
+// bonds. Bonds are stored once (newton_bond on), so the end that is a ghost here is marked and
+// the mark sent to its owner. A ghost image no local bond reads is not turned: it receives its
+// owner's orientation afresh at the next borders, before any bond can read it (the bond lists
+// change only there). The image is the one LIGGGHTS' bond list takes (closest_image). Called
+// after every exchange (local indices change there) with the ghosts and the atom map current.
 void FixWirenetBonds::find_beam_ends()
 {
   oriented.clear();
@@ -565,12 +559,10 @@ void FixWirenetBonds::find_beam_ends()
       const int t = bond_type[i][m];
       if (t <= 0 || t >= (int)beam_type.size() || !beam_type[t]) continue;
       end_mark[i] = 1.0;
-      end_mark[atom->map(bond_atom[i][m])] = 1.0;  // present: check_partners_present()
+      // present: check_partners_present()
+      end_mark[domain->closest_image(i, atom->map(bond_atom[i][m]))] = 1.0;
     }
   comm->reverse_comm_fix(this);
-  comm_mode = COMM_MARKS;
-  comm->forward_comm_fix(this);
-  comm_mode = COMM_VELOCITIES;
   for (int i = 0; i < nall; i++)
     if (end_mark[i] > 0.0) oriented.push_back(i);
 }

@@ -100,9 +100,8 @@ class FixWirenetBonds : public Fix {
   double **rot;      // [nmax][9] its rotation matrix, derived each step
   int orient_flag, vel_flag;
   std::vector<char> beam_type;    // [type]: a beam law
-  std::vector<int> oriented;      // local and ghost atoms at a beam end: the only ones whose orientation matters
+  std::vector<int> oriented;      // local beam ends and the ghost ends of local beams: the only orientations read
   std::vector<double> end_mark;   // [nlocal + nghost] scratch of find_beam_ends
-  enum CommMode { COMM_VELOCITIES, COMM_MARKS } comm_mode;  // what pack_comm sends
   long version;
   // the bond length the ghosts reach (LIGGGHTS adds the skin: in one neighbour-list interval no
   // bond grows by more); headroom above the longest bond so that growing is rare

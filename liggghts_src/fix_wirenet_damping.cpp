@@ -235,6 +235,26 @@ void FixWirenetDamping::damp_all()
   }
 }
 
+// One atom's force (or torque) g, damped against its velocity (or angular velocity) u: the local
+// damping and, with VISC, the viscous part -c u; the damping into d with TALLY; with KICK the
+// half kick u += k g with the damped g. In locals, stored at the end: the arrays could alias, so
+// writing one component in place would make the compiler reload the next.
+template <bool TALLY, bool KICK, bool VISC>
+static inline void damp_vector(double *g, double *u, double a, double c, double k, double *d)
+{
+  double gl[3] = { g[0], g[1], g[2] }, ul[3] = { u[0], u[1], u[2] };
+  for (int n = 0; n < 3; n++) {
+    double dn = local_damping(gl[n], ul[n], a);
+    if (VISC) dn -= c * ul[n];
+    if (TALLY) d[n] = dn;
+    gl[n] += dn;
+    if (KICK) ul[n] += k * gl[n];
+  }
+  for (int n = 0; n < 3; n++) g[n] = gl[n];
+  if (KICK)
+    for (int n = 0; n < 3; n++) u[n] = ul[n];
+}
+
 // The damping of every atom of the group; TALLY keeps each atom's damping force and torque for
 // end_of_step (the work and impulse), a 48-byte write per atom that a run without the budget
 // does not need. KICK (integrate yes, from final_integrate: every force of the step is in) also
@@ -274,22 +294,8 @@ void FixWirenetDamping::damp()
           for (int k = 0; k < 3; k++) fd[k] = td[k] = 0.0;
         continue;
       }
-      double *fi = f[i], *vi = v[i];
-      const double dtfm = KICK ? kick_v[3 * i] : 0.0;
       const double cm = VISC ? c * rmass[i] : 0.0;
-      // the atom's force and velocity in locals, stored at the end: the arrays could alias, so
-      // writing one component in place would make the compiler reload the next
-      double fl[3] = { fi[0], fi[1], fi[2] }, vl[3] = { vi[0], vi[1], vi[2] };
-      for (int k = 0; k < 3; k++) {
-        double d = local_damping(fl[k], vl[k], a);
-        if (VISC) d -= cm * vl[k];
-        if (TALLY) fd[k] = d;
-        fl[k] += d;
-        if (KICK) vl[k] += dtfm * fl[k];
-      }
-      for (int k = 0; k < 3; k++) fi[k] = fl[k];
-      if (KICK)
-        for (int k = 0; k < 3; k++) vi[k] = vl[k];
+      damp_vector<TALLY, KICK, VISC>(f[i], v[i], a, cm, KICK ? kick_v[3 * i] : 0.0, fd);
       if (rotational) damp_torque<TALLY, KICK, VISC>(i, cm);
       else if (TALLY)
         for (int k = 0; k < 3; k++) td[k] = 0.0;
@@ -349,22 +355,10 @@ inline void FixWirenetDamping::damp_torque(int i, double cm)
     if (TALLY) td[0] = td[1] = td[2] = 0.0;
     return;
   }
-  double *wi = atom->omega[i];
-  const double dtirotate = KICK ? kick_w[i] : 0.0;
   const double radius = VISC ? atom->radius[i] : 0.0;
   const double ci = VISC ? 0.4 * cm * radius * radius : 0.0;
-  double tl[3] = { ti[0], ti[1], ti[2] }, wl[3] = { wi[0], wi[1], wi[2] };
-  for (int k = 0; k < 3; k++) {
-    double d = local_damping(tl[k], wl[k], alpha);
-    if (VISC) d -= ci * wl[k];
-    if (TALLY) td[k] = d;
-    tl[k] += d;
-    if (KICK) wl[k] += dtirotate * tl[k];
-  }
-  for (int k = 0; k < 3; k++) ti[k] = tl[k];
-  if (KICK)
-    for (int k = 0; k < 3; k++) wi[k] = wl[k];
-  if (integrate && (tl[0] != 0.0 || tl[1] != 0.0 || tl[2] != 0.0)) turning.push_back(i);
+  damp_vector<TALLY, KICK, VISC>(ti, atom->omega[i], alpha, ci, KICK ? kick_w[i] : 0.0, td);
+  if (integrate && (ti[0] != 0.0 || ti[1] != 0.0 || ti[2] != 0.0)) turning.push_back(i);
 }
 
 // F(t+dt) . v(t+dt) dt with the full-step velocity: summed over all forces this equals the change of

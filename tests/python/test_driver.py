@@ -24,9 +24,9 @@ def driver(*args, cwd=lmp.ROOT, timeout=600, umask=None, setup=False, env_extra=
     test is about the command exactly as typed."""
     env = dict(os.environ, WIRENET_BUILD=str(lmp.BUILD))
     env.pop("WIRENET_NP", None)      # the defaults under test are the machine's, not the caller's
-    env.update(env_extra or {})
     if not setup:
         env["WIRENET_SETUP"] = "skip"
+    env.update(env_extra or {})
 
     def preexec():
         if umask is not None:
@@ -92,8 +92,27 @@ def test_bad_commands_exit_2_with_one_line(tmp_path, args, phrase):
     assert p.returncode == 2, (p.returncode, p.stderr)
     errors = [l for l in p.stderr.splitlines() if "error" in l]
     assert len(errors) == 1 and phrase in errors[0], p.stderr
+    assert not errors[0].endswith(" 2"), p.stderr   # the exit code is not part of the message
     assert "Traceback" not in p.stderr
     assert not (tmp_path / "o").exists() or not any((tmp_path / "o").iterdir())
+
+
+@pytest.mark.parametrize("variable, value, expected", [
+    ("WIRENET_SETUP", "skp", "skip or unset"),
+    ("WIRENET_JOBS", "abc", "an integer > 0"),
+    ("WIRENET_JOBS", "0", "an integer > 0"),
+    ("WIRENET_SUBNORMALS", "kep", "keep or flush"),
+])
+@pytest.mark.parametrize("command", ["run", "setup"])   # quick even if the check were missing
+def test_bad_environment_exits_2_with_one_line(tmp_path, variable, value, expected, command):
+    """A mistyped variable of the driver is refused before anything runs or is written, not
+    silently read as its default (WIRENET_SETUP=skp did a full set-up; WIRENET_SUBNORMALS=kep
+    flushed)."""
+    args = ("run", "beam", "--quick", "--out", str(tmp_path / "o")) if command == "run" else (command,)
+    p = driver(*args, cwd=tmp_path, env_extra={variable: value})
+    assert p.returncode == 2, (p.returncode, p.stderr[-2000:])
+    assert p.stderr.splitlines() == [f"wirenet: error: {variable} must be {expected} (got '{value}')"]
+    assert p.stdout == "" and not (tmp_path / "o").exists()
 
 
 @pytest.mark.parametrize("value", ["abc", "0", "2.5", "-3"])

@@ -1,5 +1,6 @@
 """The executable flushes subnormal numbers to zero (cmake/patches/0007): a product below 2.2e-308
-is 0 on every rank, and WIRENET_SUBNORMALS=keep restores IEEE gradual underflow.
+is 0 on every rank, WIRENET_SUBNORMALS=keep restores IEEE gradual underflow, and any other value
+stops the program with one error line before it reads its input.
 
 Why it matters: a wave entering a resting net takes its displacements, velocities and forces through
 the subnormal range, where each operation is microcoded and slow (docs/PERFORMANCE.md, twenty-second
@@ -38,3 +39,12 @@ def test_subnormal_products_are_zero_on_every_rank(tmp_path, np):
 def test_keep_restores_gradual_underflow(tmp_path, monkeypatch):
     monkeypatch.setenv("WIRENET_SUBNORMALS", "keep")
     assert tiny_value(tmp_path, 2) == pytest.approx(1e-310, rel=1e-6)
+
+
+@pytest.mark.parametrize("np", [1, 2])
+def test_a_bad_mode_stops_before_the_input_with_one_line(tmp_path, monkeypatch, np):
+    monkeypatch.setenv("WIRENET_SUBNORMALS", "kep")
+    rc, out = lmp.run_deck_rc(DECK, tmp_path, np=np)
+    assert rc != 0 and lmp.error_lines(out) == \
+        ["ERROR: WIRENET_SUBNORMALS must be keep or flush (got 'kep')"], out[-1500:]
+    assert not (tmp_path / "log.lammps").exists()      # it read no input

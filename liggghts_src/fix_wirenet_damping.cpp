@@ -320,19 +320,19 @@ void FixWirenetDamping::damp_forces_flat()
   const double *__restrict kv = KICK ? kick_v.data() : NULL;
   double *__restrict fd = TALLY ? fdamp_f.data() : NULL;
   const double a = alpha;
+  const WireNet::Lanes al = { a, a };
   int c = 0;
-#if defined(__SSE2__)
-  const __m128d av = _mm_set1_pd(a);
   for (; c + 2 <= n; c += 2) {
-    const __m128d vl = _mm_loadu_pd(v + c);
-    const __m128d d = local_damping(_mm_loadu_pd(f + c), vl, av);
-    const __m128d fl = _mm_add_pd(_mm_loadu_pd(f + c), d);
-    if (TALLY) _mm_storeu_pd(fd + c, d);
-    _mm_storeu_pd(f + c, fl);
-    if (KICK) _mm_storeu_pd(v + c, _mm_add_pd(vl, _mm_mul_pd(_mm_loadu_pd(kv + c), fl)));
+    const WireNet::Lanes fl0 = { f[c], f[c + 1] }, vl = { v[c], v[c + 1] };
+    const WireNet::Lanes d = local_damping(fl0, vl, al), fl = fl0 + d;
+    if (TALLY) fd[c] = d[0], fd[c + 1] = d[1];
+    f[c] = fl[0], f[c + 1] = fl[1];
+    if (KICK) {
+      const WireNet::Lanes vn = vl + WireNet::Lanes{ kv[c], kv[c + 1] } * fl;
+      v[c] = vn[0], v[c + 1] = vn[1];
+    }
   }
-#endif
-  for (; c < n; c++) {   // the last component (3 nlocal odd), or all without SSE2
+  for (; c < n; c++) {   // the last component when 3 nlocal is odd
     const double vl = v[c];
     const double d = local_damping(f[c], vl, a);
     const double fl = f[c] + d;

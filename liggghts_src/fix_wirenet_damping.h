@@ -63,7 +63,7 @@ class FixWirenetDamping : public Fix {
   // Damping force and torque of this step per local atom (3 doubles each), kept from post_force
   // to end_of_step, when the velocities of the same instant are known.
   std::vector<double> fdamp_f, fdamp_t;
-  int ndamped;                // local atoms in fdamp; -1 = nothing to account this step
+  int ndamped;                // local atoms in fdamp_f/fdamp_t; -1 = nothing to account this step
   double work_mine[2];        // work of damping forces / torques done on this rank's atoms
   double work_all[2];         // reduced over ranks (by reduce_work)
   double impulse_mine[3];     // impulse of the damping forces on this rank's atoms (momentum budget)

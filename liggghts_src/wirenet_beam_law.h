@@ -10,6 +10,7 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
+#include "wirenet_lanes.h"
 
 namespace WireNet {
 
@@ -46,10 +47,8 @@ enum BeamSlot {
   B_NSLOTS = 13
 };
 
-// Two bonds side by side, one per lane: the bond loop evaluates two bonds per instruction
-// (SSE2 on x86-64; GCC/Clang vector extension). Lane arithmetic is plain IEEE arithmetic, so a
-// bond gets the same bits alone (T = double) or in a pair (T = Lanes).
-typedef double Lanes __attribute__((vector_size(16)));
+// Two bonds side by side, one per lane (wirenet_lanes.h): the bond loop evaluates two bonds per
+// instruction, and a bond gets the same bits alone (T = double) or in a pair (T = Lanes).
 
 // The constant part of a beam bond's history record, stiffnesses divided by l0 once (a beam
 // record never changes after its first run): one bond (T = double) or two (T = Lanes).

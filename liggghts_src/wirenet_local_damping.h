@@ -5,9 +5,8 @@
 #define WIRENET_LOCAL_DAMPING_H
 
 #include <cmath>
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
+
+#include "wirenet_lanes.h"
 
 namespace WireNet {
 
@@ -21,17 +20,15 @@ inline double local_damping(double f, double v, double alpha)
   return v != 0.0 ? d : 0.0;
 }
 
-#if defined(__SSE2__)
-// The same rule on two components at once, bit for bit the scalar one: the select is a mask
-// (the compiler keeps the scalar select as a branch, which stops it vectorising a loop).
-inline __m128d local_damping(__m128d f, __m128d v, __m128d alpha)
+// The same rule on two components at once, bit for bit the scalar one, in bit operations: the
+// compiler keeps the scalar select as a branch, which stops it pairing a loop's components.
+inline Lanes local_damping(Lanes f, Lanes v, Lanes alpha)
 {
-  const __m128d sign = _mm_set1_pd(-0.0);
-  const __m128d mag = _mm_mul_pd(alpha, _mm_andnot_pd(sign, f));            // alpha |f|
-  const __m128d d = _mm_xor_pd(_mm_or_pd(_mm_and_pd(sign, v), mag), sign);  // -copysign(mag, v)
-  return _mm_and_pd(d, _mm_cmpneq_pd(v, _mm_setzero_pd()));                 // 0 where v = 0
+  const LaneBits sign = (LaneBits)(Lanes{ -0.0, -0.0 });
+  const Lanes mag = alpha * (Lanes)((LaneBits)f & ~sign);                 // alpha |f|
+  const LaneBits d = (((LaneBits)v & sign) | (LaneBits)mag) ^ sign;       // -copysign(mag, v)
+  return (Lanes)(d & (v != Lanes{ 0.0, 0.0 }));                           // 0 where v = 0
 }
-#endif
 
 }  // namespace WireNet
 

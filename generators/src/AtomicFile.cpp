@@ -8,7 +8,7 @@
 #include <cstring>
 #include <set>
 
-#include "Options.h"
+#include "Usage.h"
 
 namespace wirenet {
 

@@ -170,19 +170,10 @@ std::string requireOut(const Options& o) {
     return out;
 }
 
-// The panel a mesh is clipped to and how messages name its sides: the panel subcommands' own
-// --width and --height, or what a fence module derives from its options.
-struct PanelSize {
-    double width, height;
-    std::string widthName = "--width", heightName = "--height";
-};
-
-PanelSize givenSize(const Options& o) { return {o.num("width"), o.num("height")}; }
-
-HexParams hexParams(const Options& o, const std::string& pre, const PanelSize& size) {
+// The hex options as given: node size, mass rule and the words. HexParams::validate() checks
+// them against each other once the panel's size is set.
+HexParams hexParams(const Options& o, const std::string& pre) {
     HexParams p;
-    p.width = size.width;
-    p.height = size.height;
     p.axisDistance = o.num("axis-distance");
     p.twistLength = o.num("twist-length");
     p.rise = o.num("rise");
@@ -203,23 +194,15 @@ HexParams hexParams(const Options& o, const std::string& pre, const PanelSize& s
         p.massRule = HexParams::Mass::Areal;
         p.arealMass = o.num(pre + "areal-mass");
     }
-    o.requireLess("--axis-distance", p.axisDistance, size.widthName, p.width);
-    o.requireLess("--twist-length + --rise", p.twistLength + p.rise, size.heightName + "/2", 0.5 * p.height);
-    if (!(p.snapFraction < 0.5))
-        throw UsageError("--snap must be < 0.5 (got " + o.str("snap") + ")");
     if (!parsePlacement(o.str("placement"), p.placement))
         throw UsageError("--placement must be twist, wire or corner (got " + o.str("placement") + ")");
-    const std::string& selvedge = o.str("selvedge");
-    if (selvedge != "loop" && selvedge != "none")
-        throw UsageError("--selvedge must be loop or none (got " + selvedge + ")");
-    p.selvedge = selvedge == "loop";
+    p.selvedge = o.choice("selvedge", {"loop", "none"}) == "loop";
     return p;
 }
 
-SquareParams squareParams(const Options& o, const std::string& pre, const PanelSize& size) {
+// The square options as given; SquareParams::validate() checks them once the size is set.
+SquareParams squareParams(const Options& o, const std::string& pre) {
     SquareParams p;
-    p.width = size.width;
-    p.height = size.height;
     p.cell = o.num("cell");
     p.ropeDiameter = o.num("rope-diameter");
     p.elements = int(o.integer("elements"));
@@ -227,10 +210,15 @@ SquareParams squareParams(const Options& o, const std::string& pre, const PanelS
                                               ? o.num(pre + "node-diameter") : p.ropeDiameter);
     p.ropeMass = o.num("rope-mass");
     p.dropFraction = o.num("edge-drop");
-    o.requireLess("--cell", p.cell, size.widthName, p.width);
-    o.requireLess("--cell", p.cell, size.heightName, p.height);
-    if (!(p.dropFraction < 0.5))
-        throw UsageError("--edge-drop must be < 0.5 (got " + o.str("edge-drop") + ")");
+    return p;
+}
+
+// A panel subcommand's layer: sized by --width and --height, then checked.
+template <class Layer>
+Layer onPanel(Layer p, const Options& o) {
+    p.width = o.num("width");
+    p.height = o.num("height");
+    p.validate(o.valueText());
     return p;
 }
 
@@ -242,59 +230,6 @@ Box panelBox(const Options& o, const NetModel& m) {
     if (!(b.lo.z() < lo.z())) throw UsageError("--zlo must be below the nodes (got " + o.str("zlo") + ")");
     if (!(b.hi.z() > hi.z())) throw UsageError("--zhi must be above the nodes (got " + o.str("zhi") + ")");
     return b;
-}
-
-Json wire(double d, const std::string& note = "") {
-    Json w = Json::object();
-    w.set("diameter", d);
-    if (!note.empty()) w.set("note", note);
-    return w;
-}
-
-Json nodeJson(double d, double mass) {
-    Json n = Json::object();
-    n.set("diameter", d).set("mass", mass);
-    return n;
-}
-
-double meanMass(const NetModel& m, int molecule) {
-    double s = 0;
-    long n = 0;
-    for (const auto& x : m.nodes)
-        if (x.molecule == molecule) { s += x.mass; ++n; }
-    return n ? s / n : 0.0;
-}
-
-// The hex layer alone (molecule 1), for the per-node mass rule.
-NetModel hexLayer(const NetModel& m) {
-    NetModel h;
-    std::vector<int> id(m.nodes.size(), -1);
-    for (size_t i = 0; i < m.nodes.size(); ++i)
-        if (m.nodes[i].molecule == 1) { id[i] = int(h.nodes.size()); h.nodes.push_back(m.nodes[i]); }
-    for (const auto& b : m.bonds)
-        if (id[b.a] >= 0 && id[b.b] >= 0 && b.type != btype::Rope) h.bonds.push_back({b.type, id[b.a], id[b.b]});
-    return h;
-}
-
-void describeHex(NetDescription& d, const HexParams& p, const NetModel& m) {
-    d.cells.set("hex", HexPanel(p).cellJson());
-    d.wires.set("DT", wire(p.wireDiameter, "two twisted wires"));
-    d.wires.set("SW", wire(p.wireDiameter)).set("selvedge", wire(p.selvedgeDiameter));
-    Json n = nodeJson(p.nodeDiameter, HexPanel(p).nodeMass(hexLayer(m)));
-    n.set("mass_rule", p.massRule == HexParams::Mass::FromWire ? "steel wire lumped evenly"
-                       : p.massRule == HexParams::Mass::Areal  ? "areal mass x area / nodes"
-                                                               : "fixed per node");
-    d.node.set("hex", n);
-}
-
-void describeSquare(NetDescription& d, const SquareParams& p, const NetModel& m) {
-    d.cells.set("square", SquarePanel(p).cellJson());
-    Json w = wire(p.ropeDiameter);
-    w.set("mass_per_metre", p.ropeMass);
-    d.wires.set("rope", w);
-    Json n = nodeJson(p.nodeDiameter, meanMass(m, 2));
-    n.set("mass_rule", "rope mass lumped: half of each adjacent element");
-    d.node.set("square", n);
 }
 
 std::string summary(const std::string& sub, const NetModel& m, const NetDescription& d) {
@@ -338,11 +273,11 @@ int runHex(const std::vector<std::string>& args) {
     o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json)");
     if (!o.parse(args)) { std::cout << o.help(); return 0; }
     checkPanelOut(requireOut(o));
-    const HexParams p = hexParams(o, "", givenSize(o));
+    const HexParams p = onPanel(hexParams(o, ""), o);
     checkSize(o, HexPanel::estimateNodes(p));
     const NetModel m = HexPanel(p).build();
     NetDescription d = panelDescription("hex");
-    describeHex(d, p, m);
+    HexPanel(p).describe(d, m);
     finishPanel("hex", o, m, d);
     return 0;
 }
@@ -358,11 +293,11 @@ int runSquare(const std::vector<std::string>& args) {
     o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json)");
     if (!o.parse(args)) { std::cout << o.help(); return 0; }
     checkPanelOut(requireOut(o));
-    const SquareParams p = squareParams(o, "", givenSize(o));
+    const SquareParams p = onPanel(squareParams(o, ""), o);
     checkSize(o, SquarePanel::estimateNodes(p));
     const NetModel m = SquarePanel(p).build();
     NetDescription d = panelDescription("square");
-    describeSquare(d, p, m);
+    SquarePanel(p).describe(d, m);
     finishPanel("square", o, m, d);
     return 0;
 }
@@ -381,15 +316,15 @@ int runCompound(const std::vector<std::string>& args) {
     if (!o.parse(args)) { std::cout << o.help(); return 0; }
     checkPanelOut(requireOut(o));
     CompoundParams p;
-    p.hex = hexParams(o, "hex-", givenSize(o));
-    p.square = squareParams(o, "square-", givenSize(o));
+    p.hex = onPanel(hexParams(o, "hex-"), o);
+    p.square = onPanel(squareParams(o, "square-"), o);
     p.tieEvery = int(o.integer("ties"));
     checkSize(o, HexPanel::estimateNodes(p.hex) + SquarePanel::estimateNodes(p.square));
     CompoundPanel panel(p);
     const NetModel m = panel.build();
     NetDescription d = panelDescription("compound");
-    describeHex(d, p.hex, m);
-    describeSquare(d, p.square, m);
+    HexPanel(p.hex).describe(d, m);
+    SquarePanel(p.square).describe(d, m);
     d.extra.set("hex_z", 0.5 * (p.hex.nodeDiameter + p.square.nodeDiameter)).set("square_z", 0.0);
     d.extra.set("tie_every", p.tieEvery).set("ties", panel.ties()).set("tie_bond_type", p.tieType);
     finishPanel("compound", o, m, d);
@@ -429,7 +364,7 @@ int runBeam(const std::vector<std::string>& args) {
     d.centre << 0.5 * p.length, 0, 0;
     d.width = p.length;
     d.height = 0;
-    d.wires.set("beam", wire(p.diameter));
+    d.wires.set("beam", wireJson(p.diameter));
     d.node.set("beam", nodeJson(p.nodeDiameter, p.density * M_PI * 0.25 * p.diameter * p.diameter * p.length / p.elements));
     d.extra.set("length", p.length).set("elements", p.elements).set("diameter", p.diameter);
     d.extra.set("density", p.density).set("mass_rule", "cylinder mass lumped: half element at the ends");
@@ -535,10 +470,15 @@ int runFence(const std::vector<std::string>& args) {
     p.shackleGap = o.num("shackle-gap");
     if (!(p.shackleGap < 0.5 * std::min(p.spacing, p.height)))
         throw UsageError("--shackle-gap must be < --spacing/2 and --height/2 (got " + o.str("shackle-gap") + ")");
-    const PanelSize size{p.panelWidth(), p.panelHeight(), "--spacing - 2 x --shackle-gap",
-                         "(--height - 2 x --shackle-gap)"};
-    if (p.net != NetKind::Square) p.panel.hex = hexParams(o, "hex-", size);
-    if (p.net != NetKind::Hex) p.panel.square = squareParams(o, "square-", size);
+    const SideNames sides{"--spacing - 2 x --shackle-gap", "(--height - 2 x --shackle-gap)"};
+    auto sized = [&](auto layer) {
+        layer.width = p.panelWidth();
+        layer.height = p.panelHeight();
+        layer.validate(o.valueText(), sides);
+        return layer;
+    };
+    if (p.net != NetKind::Square) p.panel.hex = sized(hexParams(o, "hex-"));
+    if (p.net != NetKind::Hex) p.panel.square = sized(squareParams(o, "square-"));
     p.panel.tieEvery = int(o.integer("ties"));
     if (p.panel.tieEvery > 0 && p.net != NetKind::Compound)
         throw UsageError("--ties needs --net compound (got --net " + net + ")");
@@ -616,8 +556,8 @@ int runFence(const std::vector<std::string>& args) {
     d.normal = p.lean(Eigen::Vector3d::UnitY());
     d.width = p.panelWidth();
     d.height = p.panelHeight();
-    if (p.net != NetKind::Square) describeHex(d, p.panel.hex, f.panel);
-    if (p.net != NetKind::Hex) describeSquare(d, p.panel.square, f.panel);
+    if (p.net != NetKind::Square) HexPanel(p.panel.hex).describe(d, f.panel);
+    if (p.net != NetKind::Hex) SquarePanel(p.panel.square).describe(d, f.panel);
     if (p.net == NetKind::Compound)
         d.extra.set("hex_y", 0.5 * (p.panel.hex.nodeDiameter + p.panel.square.nodeDiameter)).set("square_y", 0.0)
             .set("tie_every", p.panel.tieEvery).set("tie_bond_type", p.panel.tieType);

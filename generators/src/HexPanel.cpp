@@ -8,6 +8,12 @@ namespace wirenet {
 
 double HexParams::swLength() const { return std::hypot(0.5 * axisDistance, rise); }
 
+void HexParams::validate(const ValueText& text, const SideNames& sides) const {
+    requireLess("--axis-distance", axisDistance, sides.width, width);
+    requireLess("--twist-length + --rise", twistLength + rise, sides.height + "/2", 0.5 * height);
+    if (!(snapFraction < 0.5)) throw UsageError("--snap must be < 0.5 (got " + text("snap", snapFraction) + ")");
+}
+
 double HexParams::snapTolerance() const { return snapFraction * std::min(twistLength, swLength()); }
 
 const char* placementName(Placement p) {
@@ -275,6 +281,32 @@ Json HexPanel::cellJson() const {
     c.set("placement", placementName(p_.placement)).set("lattice_origin", origin);
     c.set("selvedge", p_.selvedge ? "loop" : "none");
     return c;
+}
+
+namespace {
+
+// The hex layer alone (molecule 1) of a compound or fence model, for the per-node mass rule.
+NetModel hexLayer(const NetModel& m) {
+    NetModel h;
+    std::vector<int> id(m.nodes.size(), -1);
+    for (size_t i = 0; i < m.nodes.size(); ++i)
+        if (m.nodes[i].molecule == 1) { id[i] = int(h.nodes.size()); h.nodes.push_back(m.nodes[i]); }
+    for (const auto& b : m.bonds)
+        if (id[b.a] >= 0 && id[b.b] >= 0 && b.type != btype::Rope) h.bonds.push_back({b.type, id[b.a], id[b.b]});
+    return h;
+}
+
+}  // namespace
+
+void HexPanel::describe(NetDescription& d, const NetModel& m) const {
+    d.cells.set("hex", cellJson());
+    d.wires.set("DT", wireJson(p_.wireDiameter, "two twisted wires"));
+    d.wires.set("SW", wireJson(p_.wireDiameter)).set("selvedge", wireJson(p_.selvedgeDiameter));
+    Json n = nodeJson(p_.nodeDiameter, nodeMass(hexLayer(m)));
+    n.set("mass_rule", p_.massRule == HexParams::Mass::FromWire ? "steel wire lumped evenly"
+                       : p_.massRule == HexParams::Mass::Areal  ? "areal mass x area / nodes"
+                                                                : "fixed per node");
+    d.node.set("hex", n);
 }
 
 }  // namespace wirenet

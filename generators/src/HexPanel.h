@@ -3,6 +3,7 @@
 #include <string>
 
 #include "NetModel.h"
+#include "Usage.h"
 
 namespace wirenet {
 
@@ -38,6 +39,10 @@ struct HexParams {
     double snapTolerance() const;
     // Centre of the twist of row 0, half-column 0 for the placement (origin for Twist).
     Eigen::Vector2d latticeOrigin() const;
+    // Throws UsageError unless the lattice fits the panel and the snap tolerance stays below
+    // half a bond. Each number's own range (> 0) is the option parser's; `sides` names the
+    // panel's width and height in the message.
+    void validate(const ValueText& text = formatted, const SideNames& sides = {}) const;
 };
 
 constexpr double kSteelDensity = 7850.0;  // kg/m3
@@ -54,6 +59,9 @@ public:
     // Total wire length per bond family (DT counted once, it holds two wires).
     static std::map<int, double> lengthPerType(const NetModel& m);
     Json cellJson() const;
+    // The layer's cells, wires and node entries of the metadata; `m` is the built model (a
+    // compound's or a fence module's), whose molecule-1 nodes are this layer.
+    void describe(NetDescription& d, const NetModel& m) const;
 
 private:
     HexParams p_;

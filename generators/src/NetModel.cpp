@@ -62,4 +62,17 @@ NetDescription panelDescription(const std::string& kind) {
     return d;
 }
 
+Json wireJson(double diameter, const std::string& note) {
+    Json w = Json::object();
+    w.set("diameter", diameter);
+    if (!note.empty()) w.set("note", note);
+    return w;
+}
+
+Json nodeJson(double diameter, double mass) {
+    Json n = Json::object();
+    n.set("diameter", diameter).set("mass", mass);
+    return n;
+}
+
 }  // namespace wirenet

@@ -70,5 +70,8 @@ struct NetDescription {
 
 // The standard names of doc/file_formats.md.
 NetDescription panelDescription(const std::string& kind);
+// Entries of the description's "wires" and "node" objects.
+Json wireJson(double diameter, const std::string& note = "");
+Json nodeJson(double diameter, double mass);
 
 }  // namespace wirenet

@@ -2,17 +2,10 @@
 
 #include <cerrno>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <sstream>
 
 namespace wirenet {
-
-std::string fmt(double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.12g", v);
-    return buf;
-}
 
 void Options::addNumber(const std::string& name, double def, const std::string& unit,
                         const std::string& help, Bound bound) {
@@ -143,11 +136,17 @@ bool Options::wasGiven(const std::string& name) const { return spec(name).given;
 long Options::integer(const std::string& name) const { return spec(name).integer; }
 const std::string& Options::str(const std::string& name) const { return spec(name).text; }
 
-void Options::requireLess(const std::string& small, double smallValue, const std::string& big,
-                          double bigValue) const {
-    if (!(smallValue <= bigValue))
-        throw UsageError(small + " must be <= " + big + " (got " + fmt(smallValue) + " > " +
-                         fmt(bigValue) + ")");
+const std::string& Options::choice(const std::string& name, const std::vector<std::string>& words) const {
+    const std::string& v = str(name);
+    for (const auto& w : words)
+        if (v == w) return v;
+    std::string list = words.front();
+    for (size_t i = 1; i < words.size(); ++i) list += (i + 1 == words.size() ? " or " : ", ") + words[i];
+    throw UsageError("--" + name + " must be " + list + " (got " + v + ")");
+}
+
+ValueText Options::valueText() const {
+    return [this](const std::string& name, double) { return str(name); };
 }
 
 std::string Options::help() const {

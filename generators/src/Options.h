@@ -2,18 +2,13 @@
 #pragma once
 #include <limits>
 #include <map>
-#include <stdexcept>
 #include <string>
 #include <vector>
 #include <utility>
 
-namespace wirenet {
+#include "Usage.h"
 
-// Bad user input. The message names the option and the value; main() prefixes
-// "wirenet-gen SUB: error: " and exits with code 2.
-struct UsageError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
+namespace wirenet {
 
 enum class Bound { Any, Positive, NonNegative };
 
@@ -46,15 +41,15 @@ public:
     bool wasGiven(const std::string& name) const;  // any option given on the command line
     long integer(const std::string& name) const;
     const std::string& str(const std::string& name) const;
+    // A word option's value; throws "--NAME must be a, b or c (got x)" unless one of `words`.
+    const std::string& choice(const std::string& name, const std::vector<std::string>& words) const;
+    // The values as typed, for the messages of the parameter types' validate().
+    ValueText valueText() const;
     std::string help() const;
     // "--width 3 --height 3 ..." as given, for file headers.
     const std::string& given() const { return given_; }
     // The same without one option (e.g. "out"), for messages about the values.
     std::string givenExcept(const std::string& name) const;
-
-    // Checks used by the generators: throw UsageError naming the option.
-    void requireLess(const std::string& small, double smallValue, const std::string& big,
-                     double bigValue) const;
 
 private:
     enum class Kind { Number, OptionalNumber, Int, String };
@@ -75,9 +70,6 @@ private:
     std::vector<std::pair<std::string, std::string>> givenPairs_;
     std::map<std::string, Spec> specs_;
 };
-
-// Formats a number compactly (%.12g) for messages and headers.
-std::string fmt(double v);
 
 // Parses a whole string as a finite number within +-kMaxMagnitude; false otherwise
 // (strtod alone accepts "inf", "nan" and overflows to inf).

@@ -5,6 +5,13 @@
 
 namespace wirenet {
 
+void SquareParams::validate(const ValueText& text, const SideNames& sides) const {
+    requireLess("--cell", cell, sides.width, width);
+    requireLess("--cell", cell, sides.height, height);
+    if (!(dropFraction < 0.5))
+        throw UsageError("--edge-drop must be < 0.5 (got " + text("edge-drop", dropFraction) + ")");
+}
+
 std::vector<double> SquarePanel::ropeLines(double half, double cell, double dropFraction) {
     // Symmetric about 0 with a rope either on the axis or half a cell off, whichever puts
     // a rope closest to the edge (an exact fit gives full cells up to the edge ropes).
@@ -95,6 +102,28 @@ Json SquarePanel::cellJson() const {
     c.set("element_length", p_.cell / p_.elements).set("crossing", "shared node");
     c.set("edge_drop_fraction", p_.dropFraction);
     return c;
+}
+
+namespace {
+
+double meanMass(const NetModel& m, int molecule) {
+    double s = 0;
+    long n = 0;
+    for (const auto& x : m.nodes)
+        if (x.molecule == molecule) { s += x.mass; ++n; }
+    return n ? s / n : 0.0;
+}
+
+}  // namespace
+
+void SquarePanel::describe(NetDescription& d, const NetModel& m) const {
+    d.cells.set("square", cellJson());
+    Json w = wireJson(p_.ropeDiameter);
+    w.set("mass_per_metre", p_.ropeMass);
+    d.wires.set("rope", w);
+    Json n = nodeJson(p_.nodeDiameter, meanMass(m, 2));
+    n.set("mass_rule", "rope mass lumped: half of each adjacent element");
+    d.node.set("square", n);
 }
 
 }  // namespace wirenet

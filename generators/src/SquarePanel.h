@@ -2,6 +2,7 @@
 // segment between crossings split into beam elements.
 #pragma once
 #include "NetModel.h"
+#include "Usage.h"
 
 namespace wirenet {
 
@@ -15,6 +16,11 @@ struct SquareParams {
     double dropFraction = 0.25;    // interior rope closer than this x cell to the edge is dropped
     double z = 0;
     int molecule = 2;
+
+    // Throws UsageError unless a cell fits the panel and the edge drop stays below half a cell.
+    // Each number's own range (> 0) is the option parser's; `sides` names the panel's width
+    // and height in the message.
+    void validate(const ValueText& text = formatted, const SideNames& sides = {}) const;
 };
 
 class SquarePanel {
@@ -29,6 +35,9 @@ public:
     struct Crossing { int node, i, j; };
     const std::vector<Crossing>& crossings() const { return crossings_; }
     Json cellJson() const;
+    // The layer's cells, wires and node entries of the metadata; `m` is the built model (a
+    // compound's or a fence module's), whose molecule-2 nodes are this layer.
+    void describe(NetDescription& d, const NetModel& m) const;
 
 private:
     int elementsFor(double length) const;

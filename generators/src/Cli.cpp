@@ -11,6 +11,7 @@
 #include "Beam.h"
 #include "CompoundPanel.h"
 #include "Fence.h"
+#include "FenceOutput.h"
 #include "MeshWriter.h"
 #include "Options.h"
 #include "Shapes.h"
@@ -156,10 +157,13 @@ void checkModel(const Options& o, const NetModel& m, const Box& box) {
     if (!(std::isfinite(mass) && mass > 0)) bad("total mass", mass);
 }
 
-void checkPanelOut(const std::string& out) {
+// --out is a file prefix and every PREFIX.EXT can be written, before anything is built.
+void checkPrefix(const std::string& out, const std::vector<std::string>& extensions = {".data", ".json"}) {
     if (!out.empty() && out.back() == '/')
         throw UsageError("--out must be a file prefix, not a folder (got " + out + ")");
-    AtomicFile::checkTargets({out + ".data", out + ".json"});
+    std::vector<std::string> targets;
+    for (const auto& ext : extensions) targets.push_back(out + ext);
+    AtomicFile::checkTargets(targets);
 }
 
 // ---- parameter extraction and checks --------------------------------------------------------
@@ -272,7 +276,7 @@ int runHex(const std::vector<std::string>& args) {
     addMaxNodes(o);
     o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json)");
     if (!o.parse(args)) { std::cout << o.help(); return 0; }
-    checkPanelOut(requireOut(o));
+    checkPrefix(requireOut(o));
     const HexParams p = onPanel(hexParams(o, ""), o);
     checkSize(o, HexPanel::estimateNodes(p));
     const NetModel m = HexPanel(p).build();
@@ -292,7 +296,7 @@ int runSquare(const std::vector<std::string>& args) {
     addMaxNodes(o);
     o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json)");
     if (!o.parse(args)) { std::cout << o.help(); return 0; }
-    checkPanelOut(requireOut(o));
+    checkPrefix(requireOut(o));
     const SquareParams p = onPanel(squareParams(o, ""), o);
     checkSize(o, SquarePanel::estimateNodes(p));
     const NetModel m = SquarePanel(p).build();
@@ -314,7 +318,7 @@ int runCompound(const std::vector<std::string>& args) {
     addMaxNodes(o);
     o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json)");
     if (!o.parse(args)) { std::cout << o.help(); return 0; }
-    checkPanelOut(requireOut(o));
+    checkPrefix(requireOut(o));
     CompoundParams p;
     p.hex = onPanel(hexParams(o, "hex-"), o);
     p.square = onPanel(squareParams(o, "square-"), o);
@@ -344,7 +348,7 @@ int runBeam(const std::vector<std::string>& args) {
     o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json)");
     if (!o.parse(args)) { std::cout << o.help(); return 0; }
     const std::string out = requireOut(o);
-    checkPanelOut(out);
+    checkPrefix(out);
     BeamParams p;
     p.length = o.num("length");
     p.elements = int(o.integer("elements"));
@@ -383,283 +387,119 @@ int runBeam(const std::vector<std::string>& args) {
 
 // ---- fence ----------------------------------------------------------------------------------
 
-// HEA 200 (EN 10365:2017; the values of ArcelorMittal's sales programme of its sections):
-// A = 53.83 cm2, Iy = 3692 cm4 (strong axis, parallel to the flanges), Iz = 1336 cm4,
-// It = 20.98 cm4, 42.3 kg/m.
-constexpr double kHeaArea = 53.83e-4, kHeaIy = 3692e-8, kHeaIz = 1336e-8, kHeaJ = 20.98e-8;
-// Steel, EN 1993-1-1 3.2.6: E = 210 GPa, nu = 0.3 (recorded for the deck's beam section line).
-constexpr double kSteelE = 2.1e11, kSteelNu = 0.3;
-
-Json idArray(const std::vector<int>& nodes) {
-    Json a = Json::array();
-    for (int n : nodes) a.push(n + 1);
-    return a;
-}
-
-void writeShackles(std::ostream& os, const FenceModel& f, const std::string& command) {
-    os << "# wirenet-gen " << command << "\n";
-    os << "# ropes: ROPE_ID N ID_1 .. ID_N (atom IDs in order along the rope, anchors at the ends)\n";
-    os << "# shackles: ATOM_ID ROPE_ID (the atom slides along the rope; it is not one of its atoms)\n";
-    for (const auto& r : f.ropes) os << "# rope " << r.id << ": " << r.name << " (" << r.kind << ")\n";
-    os << "ropes " << f.ropes.size() << "\n";
-    for (const auto& r : f.ropes) {
-        os << r.id << " " << r.atoms.size();
-        for (int a : r.atoms) os << " " << a + 1;
-        os << "\n";
-    }
-    os << "shackles " << f.shackles.size() << "\n";
-    for (const auto& s : f.shackles) os << s.atom + 1 << " " << s.rope << "\n";
-}
-
-int runFence(const std::vector<std::string>& args) {
-    Options o("fence");
+// The fence's options; the defaults are FenceParams' (the fence inputs/fence.in brings to rest).
+void addFenceOptions(Options& o) {
+    const FenceParams d;
     o.setSummary("Rockfall fence in the form of EAD 340059-00-0106 (ETAG 027): net modules between hinged posts,\n"
                  "top and bottom support ropes from lateral anchor to lateral anchor with brakes, upslope ropes\n"
                  "with brakes, and the shackles that hang the net on the ropes (PREFIX.shackles). Frame: x along\n"
                  "the fence (centred), y upslope (the block comes from +y), z up (post bases at z = 0).\n"
                  "Defaults: 3 modules, 10 m post spacing, 5 m posts, compound net, HEA 200 posts, 22 mm ropes.");
-    o.addInt("modules", 3, 1, "functional modules (one net panel between two posts each)");
-    o.addNumber("spacing", 10.0, "m", "post spacing");
-    o.addNumber("height", 5.0, "m", "post height = nominal height of the fence");
-    o.addString("net", "compound", "net of each module: hex, square or compound");
+    o.addInt("modules", d.modules, 1, "functional modules (one net panel between two posts each)");
+    o.addNumber("spacing", d.spacing, "m", "post spacing");
+    o.addNumber("height", d.height, "m", "post height = nominal height of the fence");
+    o.addString("net", netKindName(d.net), "net of each module: hex, square or compound");
     addHexOptions(o, "hex-");
     addSquareOptions(o, "square-");
-    o.addInt("ties", 0, 0, "compound: tie every k-th interior crossing to the nearest hex node; 0 = none");
-    o.addNumber("shackle-gap", 0.05, "m", "gap between a net edge and its support rope or post (panel = spacing - 2 gap by height - 2 gap)");
-    o.addString("side-shackles", "post", "module sides: post (shackled to the neighbouring post) or none (free)");
-    // defaults: the fence inputs/fence.in brings to rest (a sliding head lets the posts sway)
-    o.addString("head-guides", "clamp", "top rope at the post heads: clamp (fixed to the head) or slide (through a guide, a shackle; the posts sway)");
-    o.addNumber("rope-segment", 0.5, "m", "target bond length of the support and upslope ropes");
-    o.addNumber("support-rope-diameter", 0.022, "m", "top and bottom support rope diameter");
-    o.addNumber("upslope-rope-diameter", 0.022, "m", "upslope rope diameter");
-    o.addNumber("rope-fill", 0.65, "-", "metallic fill factor of the wire ropes: mass = fill x density x pi d^2/4 per metre");
-    o.addNumber("anchor-distance", 5.0, "m", "the top rope's lateral anchors beyond the end posts, on the ground (z = 0)");
-    o.addNumber("bottom-anchor-distance", 2.5, "m", "the bottom rope's lateral anchors beyond the end posts (z = 0)");
-    o.addInt("brakes", 1, 0, "brake bonds in each support rope next to each lateral anchor");
-    o.addNumber("upslope-distance", 10.0, "m", "upslope anchors behind the posts (at y = this)");
-    o.addNumber("upslope-height", 0.0, "m", "height of the upslope anchors above the post bases", Bound::Any);
-    o.addInt("upslope-brakes", 1, 0, "brake bonds in each upslope rope next to its anchor");
-    o.addInt("post-elements", 5, 1, "beam elements per post");
-    o.addNumber("post-tilt", 10.0, "deg", "posts, net and support ropes lean downslope (towards -y) by this angle about the ground line; "
+    o.addInt("ties", d.panel.tieEvery, 0, "compound: tie every k-th interior crossing to the nearest hex node; 0 = none");
+    o.addNumber("shackle-gap", d.shackleGap, "m", "gap between a net edge and its support rope or post (panel = spacing - 2 gap by height - 2 gap)");
+    o.addString("side-shackles", d.sideShackles ? "post" : "none", "module sides: post (shackled to the neighbouring post) or none (free)");
+    o.addString("head-guides", d.clampHeads ? "clamp" : "slide", "top rope at the post heads: clamp (fixed to the head) or slide (through a guide, a shackle; the posts sway)");
+    o.addNumber("rope-segment", d.ropeSegment, "m", "target bond length of the support and upslope ropes");
+    o.addNumber("support-rope-diameter", d.supportDiameter, "m", "top and bottom support rope diameter");
+    o.addNumber("upslope-rope-diameter", d.upslopeDiameter, "m", "upslope rope diameter");
+    o.addNumber("rope-fill", d.fill, "-", "metallic fill factor of the wire ropes: mass = fill x density x pi d^2/4 per metre");
+    o.addNumber("anchor-distance", d.anchorDistance, "m", "the top rope's lateral anchors beyond the end posts, on the ground (z = 0)");
+    o.addNumber("bottom-anchor-distance", d.bottomAnchorDistance, "m", "the bottom rope's lateral anchors beyond the end posts (z = 0)");
+    o.addInt("brakes", d.brakes, 0, "brake bonds in each support rope next to each lateral anchor");
+    o.addNumber("upslope-distance", d.upslopeDistance, "m", "upslope anchors behind the posts (at y = this)");
+    o.addNumber("upslope-height", d.upslopeHeight, "m", "height of the upslope anchors above the post bases", Bound::Any);
+    o.addInt("upslope-brakes", d.upslopeBrakes, 0, "brake bonds in each upslope rope next to its anchor");
+    o.addInt("post-elements", d.postElements, 1, "beam elements per post");
+    o.addNumber("post-tilt", d.postTilt, "deg", "posts, net and support ropes lean downslope (towards -y) by this angle about the ground line; "
                 "a vertical hinged post is an inverted pendulum that only its tension-only upslope rope holds", Bound::Any);
-    o.addNumber("post-area", kHeaArea, "m2", "post section area A (HEA 200)");
-    o.addNumber("post-iy", kHeaIy, "m4", "post second moment Iy about the strong axis, which lies along the fence (HEA 200)");
-    o.addNumber("post-iz", kHeaIz, "m4", "post second moment Iz about the weak axis, which lies along y (HEA 200)");
-    o.addNumber("post-j", kHeaJ, "m4", "post torsion constant It (HEA 200)");
-    o.addNumber("post-node-diameter", 0.05, "m", "post node sphere diameter (numerical)");
-    o.addNumber("density", kSteelDensity, "kg/m3", "steel density of ropes and posts");
+    o.addNumber("post-area", d.postArea, "m2", "post section area A (HEA 200)");
+    o.addNumber("post-iy", d.postIy, "m4", "post second moment Iy about the strong axis, which lies along the fence (HEA 200)");
+    o.addNumber("post-iz", d.postIz, "m4", "post second moment Iz about the weak axis, which lies along y (HEA 200)");
+    o.addNumber("post-j", d.postJ, "m4", "post torsion constant It (HEA 200)");
+    o.addNumber("post-node-diameter", d.postNodeDiameter, "m", "post node sphere diameter (numerical)");
+    o.addNumber("density", d.density, "kg/m3", "steel density of ropes and posts");
     o.addNumber("margin", 1.0, "m", "box margin beyond the nodes in x, +y and z");
     o.addNumber("ylo", -10.0, "m", "box lower y bound (the net deflects towards -y)", Bound::Any);
     addMaxNodes(o);
     o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json, PREFIX.shackles)");
-    if (!o.parse(args)) { std::cout << o.help(); return 0; }
-    const std::string out = requireOut(o);
-    if (!out.empty() && out.back() == '/')
-        throw UsageError("--out must be a file prefix, not a folder (got " + out + ")");
-    AtomicFile::checkTargets({out + ".data", out + ".json", out + ".shackles"});
+}
 
+// The fence's options as given; FenceParams::validateLayout() and validateRopes() check them.
+// The layers of the net are read only if the net has them (--net square ignores --placement).
+FenceParams fenceParams(const Options& o) {
     FenceParams p;
     p.modules = int(o.integer("modules"));
     p.spacing = o.num("spacing");
     p.height = o.num("height");
-    const std::string& net = o.str("net");
-    if (net == "hex") p.net = NetKind::Hex;
-    else if (net == "square") p.net = NetKind::Square;
-    else if (net == "compound") p.net = NetKind::Compound;
-    else throw UsageError("--net must be hex, square or compound (got " + net + ")");
-    p.shackleGap = o.num("shackle-gap");
-    if (!(p.shackleGap < 0.5 * std::min(p.spacing, p.height)))
-        throw UsageError("--shackle-gap must be < --spacing/2 and --height/2 (got " + o.str("shackle-gap") + ")");
-    const SideNames sides{"--spacing - 2 x --shackle-gap", "(--height - 2 x --shackle-gap)"};
-    auto sized = [&](auto layer) {
-        layer.width = p.panelWidth();
-        layer.height = p.panelHeight();
-        layer.validate(o.valueText(), sides);
-        return layer;
-    };
-    if (p.net != NetKind::Square) p.panel.hex = sized(hexParams(o, "hex-"));
-    if (p.net != NetKind::Hex) p.panel.square = sized(squareParams(o, "square-"));
+    if (!parseNetKind(o.str("net"), p.net))
+        throw UsageError("--net must be hex, square or compound (got " + o.str("net") + ")");
+    if (p.net != NetKind::Square) p.panel.hex = hexParams(o, "hex-");
+    if (p.net != NetKind::Hex) p.panel.square = squareParams(o, "square-");
     p.panel.tieEvery = int(o.integer("ties"));
-    if (p.panel.tieEvery > 0 && p.net != NetKind::Compound)
-        throw UsageError("--ties needs --net compound (got --net " + net + ")");
-    const std::string& side = o.str("side-shackles");
-    if (side != "post" && side != "none")
-        throw UsageError("--side-shackles must be post or none (got " + side + ")");
-    p.sideShackles = side == "post";
-    const std::string& guides = o.str("head-guides");
-    if (guides != "slide" && guides != "clamp")
-        throw UsageError("--head-guides must be slide or clamp (got " + guides + ")");
-    p.clampHeads = guides == "clamp";
+    p.shackleGap = o.num("shackle-gap");
+    p.sideShackles = o.choice("side-shackles", {"post", "none"}) == "post";
+    p.clampHeads = o.choice("head-guides", {"slide", "clamp"}) == "clamp";
     p.ropeSegment = o.num("rope-segment");
     p.supportDiameter = o.num("support-rope-diameter");
     p.upslopeDiameter = o.num("upslope-rope-diameter");
     p.fill = o.num("rope-fill");
-    if (!(p.fill <= 1)) throw UsageError("--rope-fill must be <= 1 (got " + o.str("rope-fill") + ")");
     p.anchorDistance = o.num("anchor-distance");
     p.bottomAnchorDistance = o.num("bottom-anchor-distance");
     p.brakes = int(o.integer("brakes"));
     p.upslopeDistance = o.num("upslope-distance");
     p.upslopeHeight = o.num("upslope-height");
-    if (!(p.upslopeHeight < p.height))
-        throw UsageError("--upslope-height must be < --height (got " + fmt(p.upslopeHeight) + " >= " + fmt(p.height) + ")");
     p.upslopeBrakes = int(o.integer("upslope-brakes"));
     p.postElements = int(o.integer("post-elements"));
     p.postTilt = o.num("post-tilt");
-    if (!(p.postTilt >= 0.0 && p.postTilt < 45.0))
-        throw UsageError("--post-tilt must be >= 0 and < 45 degrees (got " + o.str("post-tilt") + ")");
     p.postArea = o.num("post-area");
     p.postIy = o.num("post-iy");
     p.postIz = o.num("post-iz");
     p.postJ = o.num("post-j");
     p.postNodeDiameter = o.num("post-node-diameter");
     p.density = o.num("density");
-    // No two spheres may overlap at the start: a net edge node next to its rope or post, a rope
-    // node next to the post head (base) it passes at half a bond.
-    const double rNet = std::max(p.net != NetKind::Square ? 0.5 * p.panel.hex.nodeDiameter : 0.0,
-                                 p.net != NetKind::Hex ? 0.5 * p.panel.square.nodeDiameter : 0.0);
-    const double rPart = 0.5 * std::max(p.supportDiameter, p.postNodeDiameter);
-    if (!(p.shackleGap > rNet + rPart))
-        throw UsageError("--shackle-gap must be > " + fmt(rNet + rPart) +
-                         ", a net node's radius plus a rope or post node's radius (got " + o.str("shackle-gap") + ")");
-    checkSize(o, Fence::estimateNodes(p));
-    const double a = p.spanBond();
-    const std::string bondText = " the support rope's bond in a module span (--spacing / round(--spacing / --rope-segment) = " + fmt(a) + " m)";
-    if (!(0.5 * a > 0.5 * (p.supportDiameter + p.postNodeDiameter)))
-        throw UsageError("--rope-segment " + o.str("rope-segment") + " gives" + bondText +
-                         ", too short for the rope and post node spheres (" + fmt(0.5 * (p.supportDiameter + p.postNodeDiameter)) +
-                         " m apart at least, twice)");
-    if (!(p.bottomAnchorDistance >= a))
-        throw UsageError("--bottom-anchor-distance must be >=" + bondText + " (got " + o.str("bottom-anchor-distance") + ")");
-    if (!(std::hypot(p.anchorDistance, p.height) >= a))
-        throw UsageError("--anchor-distance must make the top rope's leg >=" + bondText + " (got " + o.str("anchor-distance") + ")");
-    const long legs = std::min(p.topLegBonds(), p.bottomLegBonds());
-    if (p.brakes > legs)
-        throw UsageError("--brakes must be <= " + std::to_string(legs) +
-                         ", the bonds between a lateral anchor and the end post (got " + std::to_string(p.brakes) + ")");
-    if (p.upslopeBrakes > p.upslopeBonds())
-        throw UsageError("--upslope-brakes must be <= " + std::to_string(p.upslopeBonds()) +
-                         ", the bonds of an upslope rope (got " + std::to_string(p.upslopeBrakes) + ")");
+    return p;
+}
 
-    const FenceModel f = Fence(p).build();
-    const NetModel& m = f.model;
-    NetDescription d = panelDescription("fence");
-    d.command = "fence " + o.given();
-    d.atomTypes = ftype::Count;
-    d.bondTypes = fbond::Count;
-    d.atomTypeNames.insert({{ftype::SupportRope, "support_rope"}, {ftype::UpslopeRope, "upslope_rope"},
-                            {ftype::Post, "post"}, {ftype::PostBase, "post_base"}, {ftype::PostHead, "post_head"},
-                            {ftype::Anchor, "anchor"}});
-    d.bondTypeNames.insert({{fbond::SupportRope, "support_rope"}, {fbond::Brake, "brake"}, {fbond::Upslope, "upslope"},
-                            {fbond::UpslopeBrake, "upslope_brake"}, {fbond::Post, "post"}});
-    const int middle = p.modules / 2;
-    d.centre = f.moduleCentres[middle];
-    d.normal = p.lean(Eigen::Vector3d::UnitY());
-    d.width = p.panelWidth();
-    d.height = p.panelHeight();
-    if (p.net != NetKind::Square) HexPanel(p.panel.hex).describe(d, f.panel);
-    if (p.net != NetKind::Hex) SquarePanel(p.panel.square).describe(d, f.panel);
-    if (p.net == NetKind::Compound)
-        d.extra.set("hex_y", 0.5 * (p.panel.hex.nodeDiameter + p.panel.square.nodeDiameter)).set("square_y", 0.0)
-            .set("tie_every", p.panel.tieEvery).set("tie_bond_type", p.panel.tieType);
-    d.extra.set("net", netKindName(p.net)).set("modules", p.modules).set("spacing", p.spacing).set("height", p.height);
-    d.extra.set("post_x", [&] { Json a = Json::array(); for (int i = 0; i <= p.modules; ++i) a.push(p.postX(i)); return a; }());
-    d.extra.set("shackle_gap", p.shackleGap).set("panel_nodes", f.panelNodes).set("panel_bonds", f.panelBonds);
-    d.extra.set("anchor_distance", p.anchorDistance).set("bottom_anchor_distance", p.bottomAnchorDistance);
-    d.extra.set("upslope_distance", p.upslopeDistance).set("upslope_height", p.upslopeHeight).set("post_tilt_deg", p.postTilt);
-    d.extra.set("coordinates", "x along the fence (centred on the fence), y upslope: the block comes from +y and "
-                "travels towards -y, z up; post bases at z = 0, heads at z = height; the net in the plane y = 0; "
-                "a panel's (x, y, z) is (x_c + x, z, height/2 + y) here; with post_tilt_deg > 0 all of it but the upslope ropes "
-                "is then turned about the x axis at the ground, the heads towards -y");
-    Json families = Json::object();
-    for (const auto& kv : std::map<int, std::string>{{1, "DT"}, {2, "SW"}, {3, "selvedge"}, {4, "rope"},
-                                                      {5, "rope"}, {6, "brake"}, {7, "upslope"}, {8, "brake"}, {9, "post"}})
-        families.set(std::to_string(kv.first), kv.second);
-    Json molecules = Json::object();
-    molecules.set("1", "hexagonal layer").set("2", "square layer").set("3", "top support rope")
-        .set("4", "bottom support rope").set("5", "upslope ropes").set("6", "posts").set("7", "anchors");
-    Json centres = Json::array();
-    for (const auto& c : f.moduleCentres) centres.push(Json::vec3(c));
-
-    Json anchors = Json::array();
-    for (const auto& an : f.anchors) {
-        Json j = Json::object();
-        j.set("id", an.atom + 1).set("name", an.name).set("rope", an.rope).set("position", Json::vec3(m.nodes[an.atom].x));
-        anchors.push(j);
-    }
-    Json ropes = Json::array();
-    std::map<int, long> perRope;
-    for (const auto& s : f.shackles) ++perRope[s.rope];
-    for (const auto& r : f.ropes) {
-        Json j = Json::object();
-        j.set("id", r.id).set("name", r.name).set("kind", r.kind).set("atoms", long(r.atoms.size()))
-            .set("shackles", perRope[r.id]);
-        ropes.push(j);
-    }
-    Json shackles = Json::object();
-    shackles.set("file", out + ".shackles").set("count", long(f.shackles.size())).set("ropes", ropes);
-    shackles.set("max_distance", f.shackleMaxDistance).set("gap", p.shackleGap).set("side", side);
-    shackles.set("note", "net edge nodes on the top and bottom edge (corners included) hang on the top and "
-                 "bottom support rope, the module sides on the neighbouring post (side post), the post heads "
-                 "on the top rope (sliding guide) and the post bases on the bottom rope; a shackle is never "
-                 "an atom of its own rope");
-    Json upslopeIds = Json::array();
-    for (const auto& r : f.upslopeRopes) upslopeIds.push(idArray(r));
-
-    const double muS = p.ropeMass(p.supportDiameter), muU = p.ropeMass(p.upslopeDiameter);
-    Json support = Json::object();
-    support.set("diameter", p.supportDiameter).set("fill", p.fill).set("mass_per_metre", muS)
-        .set("bond_type", fbond::SupportRope).set("family", "rope").set("brake_bond_type", fbond::Brake)
-        .set("brakes_per_end", p.brakes).set("segment_target", p.ropeSegment).set("span_bond", p.spanBond())
-        .set("span_bonds", p.spanBonds()).set("top_leg_bonds", p.topLegBonds()).set("bottom_leg_bonds", p.bottomLegBonds())
-        .set("node_type", ftype::SupportRope).set("node_diameter", p.supportDiameter);
-    Json upslope = Json::object();
-    upslope.set("diameter", p.upslopeDiameter).set("fill", p.fill).set("mass_per_metre", muU)
-        .set("bond_type", fbond::Upslope).set("family", "upslope").set("brake_bond_type", fbond::UpslopeBrake)
-        .set("brakes", p.upslopeBrakes).set("bonds", p.upslopeBonds()).set("length", p.upslopeLength())
-        .set("angle_deg", std::atan2(p.lean({0.0, 0.0, p.height}).z() - p.upslopeHeight,
-                                     p.upslopeDistance - p.lean({0.0, 0.0, p.height}).y()) * 180.0 / M_PI)
-        .set("node_type", ftype::UpslopeRope).set("node_diameter", p.upslopeDiameter).set("atoms", upslopeIds);
-    Json ropeJson = Json::object();
-    ropeJson.set("support", support).set("upslope", upslope);
-    ropeJson.set("mass_rule", "fill x density x pi d^2/4 per metre, half of each bond to each of its nodes");
-
-    Json section = Json::object();
-    const bool hea = p.postArea == kHeaArea && p.postIy == kHeaIy && p.postIz == kHeaIz && p.postJ == kHeaJ;
-    section.set("profile", hea ? "HEA 200" : "user").set("A", p.postArea).set("Iy", p.postIy).set("Iz", p.postIz)
-        .set("J", p.postJ);
-    if (hea) section.set("source", "EN 10365:2017 HEA 200 (ArcelorMittal sales programme tables): A 53.83 cm2, "
-                         "Iy 3692 cm4, Iz 1336 cm4, It 20.98 cm4, 42.3 kg/m");
-    Json posts = Json::object();
-    posts.set("count", p.modules + 1).set("elements", p.postElements).set("height", p.height)
-        .set("bond_type", fbond::Post).set("family", "post").set("section", section)
-        .set("orient", Json::vec3(Eigen::Vector3d::UnitX()))
-        .set("orient_note", "the section's y axis (strong axis, Iy, flanges parallel to the fence) along the fence, x: "
-             "bending under a load along y is resisted by E Iy; deck: bond_coeff T beam section A Iy Iz J orient 1 0 0 E .. nu ..")
-        .set("E", kSteelE).set("nu", kSteelNu).set("density", p.density).set("mass_per_metre", p.density * p.postArea)
-        .set("node_diameter", p.postNodeDiameter).set("base", "hinged: hold the translation of post_bases only");
-    Json mass = Json::object();
-    mass.set("net", f.netMass).set("support_ropes", f.supportMass).set("upslope_ropes", f.upslopeMass)
-        .set("posts", f.postMass).set("total", m.totalMass());
-
-    d.top.set("impact_target", Json::vec3(f.moduleCentres[middle]));
-    d.top.set("module_centres", centres).set("post_bases", idArray(f.postBases)).set("post_heads", idArray(f.postHeads));
-    d.top.set("anchors", anchors).set("shackles", shackles).set("bond_families", families).set("molecules", molecules);
-    d.top.set("ropes", ropeJson).set("posts", posts).set("mass", mass);
-
+// --margin around the nodes, but downslope (-y) down to --ylo: room for the net's deflection.
+Box fenceBox(const Options& o, const NetModel& m) {
     const Eigen::Vector3d lo = m.bboxMin(), hi = m.bboxMax();
     const double margin = o.num("margin");
-    d.box.lo << lo.x() - margin, o.num("ylo"), lo.z() - margin;
-    d.box.hi << hi.x() + margin, hi.y() + margin, hi.z() + margin;
-    if (!(d.box.lo.y() < lo.y())) throw UsageError("--ylo must be below the nodes (got " + o.str("ylo") + ")");
-    checkModel(o, m, d.box);
+    Box b;
+    b.lo << lo.x() - margin, o.num("ylo"), lo.z() - margin;
+    b.hi << hi.x() + margin, hi.y() + margin, hi.z() + margin;
+    if (!(b.lo.y() < lo.y())) throw UsageError("--ylo must be below the nodes (got " + o.str("ylo") + ")");
+    return b;
+}
 
-    MeshWriter writer(m, d);
+int runFence(const std::vector<std::string>& args) {
+    Options o("fence");
+    addFenceOptions(o);
+    if (!o.parse(args)) { std::cout << o.help(); return 0; }
+    const std::string out = requireOut(o);
+    checkPrefix(out, {".data", ".json", ".shackles"});
+    const FenceParams p = fenceParams(o);
+    p.validateLayout(o.valueText());
+    checkSize(o, Fence::estimateNodes(p));
+    p.validateRopes(o.valueText());
+
+    const FenceModel f = Fence(p).build();
+    NetDescription d = fenceDescription(p, f, "fence " + o.given(), out + ".shackles");
+    d.box = fenceBox(o, f.model);
+    checkModel(o, f.model, d.box);
+
+    MeshWriter writer(f.model, d);
     AtomicFile data(out + ".data"), meta(out + ".json"), sh(out + ".shackles");
     writer.writeData(data.stream());
     meta.stream() << writer.metadata().dump(2) << "\n";
     writeShackles(sh.stream(), f, d.command);
     AtomicFile::commitAll({&data, &meta, &sh});
-    std::cout << summary("fence", m, d) << "\n  " << f.shackles.size() << " shackles on " << f.ropes.size()
+    std::cout << summary("fence", f.model, d) << "\n  " << f.shackles.size() << " shackles on " << f.ropes.size()
               << " ropes, " << f.anchors.size() << " anchors\n  -> " << out << ".data, " << out << ".json, "
               << out << ".shackles\n";
     return 0;

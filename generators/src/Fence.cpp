@@ -14,6 +14,15 @@ const char* netKindName(NetKind k) {
     return "compound";
 }
 
+bool parseNetKind(const std::string& text, NetKind& k) {
+    for (NetKind c : {NetKind::Hex, NetKind::Square, NetKind::Compound})
+        if (text == netKindName(c)) {
+            k = c;
+            return true;
+        }
+    return false;
+}
+
 namespace {
 
 // Bonds of a straight run of the given length with bonds of about `seg` (at least one); in
@@ -49,14 +58,71 @@ double FenceParams::upslopeLength() const {
 long FenceParams::upslopeBonds() const { return long(bondsFor(upslopeLength(), ropeSegment)); }
 double FenceParams::ropeMass(double d) const { return fill * density * M_PI * 0.25 * d * d; }
 
+CompoundParams FenceParams::module() const {
+    CompoundParams cp = panel;
+    cp.hex.width = cp.square.width = panelWidth();
+    cp.hex.height = cp.square.height = panelHeight();
+    cp.hex.molecule = 1;
+    cp.square.molecule = 2;
+    cp.hex.z = cp.square.z = 0;
+    return cp;
+}
+
+void FenceParams::validateLayout(const ValueText& text) const {
+    if (!(shackleGap < 0.5 * std::min(spacing, height)))
+        throw UsageError("--shackle-gap must be < --spacing/2 and --height/2 (got " +
+                         text("shackle-gap", shackleGap) + ")");
+    const CompoundParams m = module();
+    const SideNames sides{"--spacing - 2 x --shackle-gap", "(--height - 2 x --shackle-gap)"};
+    if (net != NetKind::Square) m.hex.validate(text, sides);
+    if (net != NetKind::Hex) m.square.validate(text, sides);
+    if (panel.tieEvery > 0 && net != NetKind::Compound)
+        throw UsageError(std::string("--ties needs --net compound (got --net ") + netKindName(net) + ")");
+    if (!(fill <= 1)) throw UsageError("--rope-fill must be <= 1 (got " + text("rope-fill", fill) + ")");
+    if (!(upslopeHeight < height))
+        throw UsageError("--upslope-height must be < --height (got " + fmt(upslopeHeight) + " >= " + fmt(height) + ")");
+    if (!(postTilt >= 0.0 && postTilt < 45.0))
+        throw UsageError("--post-tilt must be >= 0 and < 45 degrees (got " + text("post-tilt", postTilt) + ")");
+    // No two spheres may overlap at the start: a net edge node next to its rope or post, a rope
+    // node next to the post head (base) it passes at half a bond.
+    const double rNet = std::max(net != NetKind::Square ? 0.5 * m.hex.nodeDiameter : 0.0,
+                                 net != NetKind::Hex ? 0.5 * m.square.nodeDiameter : 0.0);
+    const double rPart = 0.5 * std::max(supportDiameter, postNodeDiameter);
+    if (!(shackleGap > rNet + rPart))
+        throw UsageError("--shackle-gap must be > " + fmt(rNet + rPart) +
+                         ", a net node's radius plus a rope or post node's radius (got " +
+                         text("shackle-gap", shackleGap) + ")");
+}
+
+void FenceParams::validateRopes(const ValueText& text) const {
+    const double a = spanBond();
+    const std::string bond = " the support rope's bond in a module span (--spacing / round(--spacing / "
+                             "--rope-segment) = " + fmt(a) + " m)";
+    const double clearance = 0.5 * (supportDiameter + postNodeDiameter);
+    if (!(0.5 * a > clearance))
+        throw UsageError("--rope-segment " + text("rope-segment", ropeSegment) + " gives" + bond +
+                         ", too short for the rope and post node spheres (" + fmt(clearance) +
+                         " m apart at least, twice)");
+    if (!(bottomAnchorDistance >= a))
+        throw UsageError("--bottom-anchor-distance must be >=" + bond + " (got " +
+                         text("bottom-anchor-distance", bottomAnchorDistance) + ")");
+    if (!(std::hypot(anchorDistance, height) >= a))
+        throw UsageError("--anchor-distance must make the top rope's leg >=" + bond + " (got " +
+                         text("anchor-distance", anchorDistance) + ")");
+    const long legs = std::min(topLegBonds(), bottomLegBonds());
+    if (brakes > legs)
+        throw UsageError("--brakes must be <= " + std::to_string(legs) +
+                         ", the bonds between a lateral anchor and the end post (got " + std::to_string(brakes) + ")");
+    if (upslopeBrakes > upslopeBonds())
+        throw UsageError("--upslope-brakes must be <= " + std::to_string(upslopeBonds()) +
+                         ", the bonds of an upslope rope (got " + std::to_string(upslopeBrakes) + ")");
+}
+
 double Fence::estimateNodes(const FenceParams& p) {
-    HexParams hp = p.panel.hex;
-    SquareParams sp = p.panel.square;
-    hp.width = sp.width = p.panelWidth();
-    hp.height = sp.height = p.panelHeight();
+    const CompoundParams m = p.module();
     double panel = 0;
-    if (p.net != NetKind::Square) panel += HexPanel::estimateNodes(hp);
-    if (p.net != NetKind::Hex) panel += SquarePanel::estimateNodes(sp);
+    if (p.net != NetKind::Square) panel += HexPanel::estimateNodes(m.hex);
+    if (p.net != NetKind::Hex) panel += SquarePanel::estimateNodes(m.square);
     const double a = p.spacing / bondsFor(p.spacing, p.ropeSegment);
     const double top = bondsFor(std::hypot(p.anchorDistance, p.height) - 0.5 * a, p.ropeSegment);
     const double bottom = bondsFor(p.bottomAnchorDistance - 0.5 * a, p.ropeSegment);
@@ -67,12 +133,7 @@ double Fence::estimateNodes(const FenceParams& p) {
 }
 
 NetModel Fence::panel() const {
-    CompoundParams cp = p_.panel;
-    cp.hex.width = cp.square.width = p_.panelWidth();
-    cp.hex.height = cp.square.height = p_.panelHeight();
-    cp.hex.molecule = 1;
-    cp.square.molecule = 2;
-    cp.hex.z = cp.square.z = 0;
+    const CompoundParams cp = p_.module();
     switch (p_.net) {
         case NetKind::Hex: return HexPanel(cp.hex).build();
         case NetKind::Square: return SquarePanel(cp.square).build();

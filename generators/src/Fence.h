@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "CompoundPanel.h"
+#include "Usage.h"
 
 namespace wirenet {
 
@@ -32,20 +33,30 @@ constexpr int TopRope = 3, BottomRope = 4, Upslope = 5, Posts = 6, Anchors = 7;
 
 enum class NetKind { Hex, Square, Compound };
 const char* netKindName(NetKind k);
+// Parses "hex", "square" or "compound"; false for anything else.
+bool parseNetKind(const std::string& text, NetKind& k);
 
+// HEA 200 (EN 10365:2017; the values of ArcelorMittal's sales programme of its sections):
+// A = 53.83 cm2, Iy = 3692 cm4 (strong axis, parallel to the flanges), Iz = 1336 cm4,
+// It = 20.98 cm4, 42.3 kg/m.
+constexpr double kHeaArea = 53.83e-4, kHeaIy = 3692e-8, kHeaIz = 1336e-8, kHeaJ = 20.98e-8;
+// Steel, EN 1993-1-1 3.2.6: E = 210 GPa, nu = 0.3 (recorded for the deck's beam section line).
+constexpr double kSteelE = 2.1e11, kSteelNu = 0.3;
+
+// The defaults are wirenet-gen fence's: the fence inputs/fence.in brings to rest.
 struct FenceParams {
     int modules = 3;                 // functional modules (panels between posts)
     double spacing = 10.0;           // post spacing, m
     double height = 5.0;             // post height = nominal height, m
     NetKind net = NetKind::Compound;
-    CompoundParams panel;            // hex / square parameters and ties; width/height set by the fence
+    CompoundParams panel;            // hex / square parameters and ties; module() sizes them
     double shackleGap = 0.05;        // net edge to its rope or post, m
     bool sideShackles = true;        // module sides shackled to the posts
-    bool clampHeads = false;         // the top rope clamped at the post heads (else it slides through)
+    bool clampHeads = true;          // top rope clamped at the post heads (false: it slides, the posts sway)
     double ropeSegment = 0.5;        // target rope bond length, m
     double supportDiameter = 0.022, upslopeDiameter = 0.022;  // m
     double fill = 0.65;              // metallic fill factor of the wire ropes
-    double density = 7850.0;         // steel, kg/m3
+    double density = kSteelDensity;  // steel, kg/m3
     double anchorDistance = 5.0;     // top rope's lateral anchors beyond the end posts, m
     double bottomAnchorDistance = 2.5;  // bottom rope's lateral anchors beyond the end posts, m
     int brakes = 1;                  // brake bonds per support-rope end (next to the lateral anchor)
@@ -53,15 +64,18 @@ struct FenceParams {
     double upslopeHeight = 0.0;      // height of the upslope anchors above the post bases, m
     int upslopeBrakes = 1;           // brake bonds per upslope rope (next to its anchor)
     int postElements = 5;
-    double postTilt = 0.0;           // degrees: posts and net lean downslope (-y) about the base line
+    double postTilt = 10.0;          // degrees: posts and net lean downslope (-y) about the base line
     // A point of the vertical fence (posts, net, support ropes) leaned by postTilt about the x axis
     // at the ground: (y, z) -> (y cos t - z sin t, y sin t + z cos t); the ground line stays.
     Eigen::Vector3d lean(const Eigen::Vector3d& x) const;
-    double postArea = 53.83e-4, postIy = 3692e-8, postIz = 1336e-8, postJ = 20.98e-8;  // HEA 200
+    double postArea = kHeaArea, postIy = kHeaIy, postIz = kHeaIz, postJ = kHeaJ;
     double postNodeDiameter = 0.05;  // m (numerical contact sphere)
 
     double panelWidth() const { return spacing - 2 * shackleGap; }
     double panelHeight() const { return height - 2 * shackleGap; }
+    // One module's panel: `panel` sized panelWidth() x panelHeight(), in the plane z = 0, the
+    // hex layer molecule 1 and the square layer molecule 2.
+    CompoundParams module() const;
     double postX(int i) const { return (i - 0.5 * modules) * spacing; }
     // Rope bonds per module span (the horizontal parts: post heads/bases at bond midpoints).
     long spanBonds() const;
@@ -74,6 +88,19 @@ struct FenceParams {
     double upslopeLength() const;
     long upslopeBonds() const;
     double ropeMass(double diameter) const;  // kg/m: fill x density x pi d^2 / 4
+
+    // Checks of the options against each other (each number's own range is the option
+    // parser's); they throw UsageError naming the option and its value as `text` shows it. Two
+    // steps, for the command line's size guard runs between them: the layout (shackle gap, the
+    // module's panel, ties, fill, upslope height, tilt, sphere clearances), which
+    // Fence::estimateNodes() needs sane, then the ropes' bonds and brakes, whose integer bond
+    // counts only exist once the guard has bounded them. validate() runs both.
+    void validateLayout(const ValueText& text = formatted) const;
+    void validateRopes(const ValueText& text = formatted) const;
+    void validate(const ValueText& text = formatted) const {
+        validateLayout(text);
+        validateRopes(text);
+    }
 };
 
 struct FenceRope {

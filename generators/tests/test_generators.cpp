@@ -13,6 +13,7 @@
 
 #include "Beam.h"
 #include "CompoundPanel.h"
+#include "Fence.h"
 #include "HexPanel.h"
 #include "MeshWriter.h"
 #include "Shapes.h"
@@ -489,6 +490,83 @@ static void testBeam() {
     }
 }
 
+// ---- parameter validation -------------------------------------------------------------------
+
+// The message a check throws; "" if it passes.
+template <class Check>
+static std::string errorOf(Check check) {
+    try {
+        check();
+    } catch (const UsageError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+// A message as expected; starts: only its beginning (the rest holds computed numbers).
+#define CHECK_MESSAGE(got, expect)                                                       \
+    do {                                                                                 \
+        const std::string got_ = (got);                                                  \
+        CHECK(got_ == (expect), "got '%s', expected '%s'", got_.c_str(), (expect));      \
+    } while (0)
+#define CHECK_MESSAGE_STARTS(got, expect)                                                \
+    do {                                                                                 \
+        const std::string got_ = (got);                                                  \
+        CHECK(got_.rfind((expect), 0) == 0, "got '%s', expected '%s...'", got_.c_str(), (expect)); \
+    } while (0)
+
+// The message FenceParams::validate() throws for the defaults with one change.
+template <class Change>
+static std::string fenceError(Change change, const ValueText& text = formatted) {
+    FenceParams p;
+    change(p);
+    return errorOf([&] { p.validate(text); });
+}
+
+static void testFenceValidation() {
+    std::printf("fence parameter validation\n");
+    // The defaults (wirenet-gen fence's) pass, for every net.
+    for (NetKind net : {NetKind::Compound, NetKind::Hex, NetKind::Square})
+        CHECK_MESSAGE(fenceError([net](FenceParams& p) { p.net = net; }), "");
+    // One bad value: one line naming the option and the value.
+    CHECK_MESSAGE(fenceError([](FenceParams& p) { p.postTilt = 45; }), "--post-tilt must be >= 0 and < 45 degrees (got 45)");
+    CHECK_MESSAGE(fenceError([](FenceParams& p) { p.fill = 1.5; }), "--rope-fill must be <= 1 (got 1.5)");
+    CHECK_MESSAGE(fenceError([](FenceParams& p) { p.shackleGap = 3; }),
+                  "--shackle-gap must be < --spacing/2 and --height/2 (got 3)");
+    CHECK_MESSAGE_STARTS(fenceError([](FenceParams& p) { p.shackleGap = 0.01; }), "--shackle-gap must be > 0.0304,");
+    CHECK_MESSAGE(fenceError([](FenceParams& p) { p.upslopeHeight = 5; }), "--upslope-height must be < --height (got 5 >= 5)");
+    CHECK_MESSAGE(fenceError([](FenceParams& p) { p.net = NetKind::Hex; p.panel.tieEvery = 2; }),
+                  "--ties needs --net compound (got --net hex)");
+    // The module's panel is checked at the module's size, named after the options it comes from.
+    CHECK_MESSAGE(fenceError([](FenceParams& p) { p.panel.hex.axisDistance = 20; }),
+                  "--axis-distance must be <= --spacing - 2 x --shackle-gap (got 20 > 9.9)");
+    CHECK_MESSAGE(fenceError([](FenceParams& p) { p.net = NetKind::Square; p.panel.square.cell = 6; }),
+                  "--cell must be <= (--height - 2 x --shackle-gap) (got 6 > 4.9)");
+    CHECK_MESSAGE(fenceError([](FenceParams& p) { p.net = NetKind::Square; p.panel.hex.axisDistance = 20; }), "");
+    // The ropes' bonds and brakes.
+    CHECK_MESSAGE(fenceError([](FenceParams& p) { p.brakes = 6; }),
+                  "--brakes must be <= 5, the bonds between a lateral anchor and the end post (got 6)");
+    CHECK_MESSAGE(fenceError([](FenceParams& p) { p.upslopeBrakes = 25; }),
+                  "--upslope-brakes must be <= 24, the bonds of an upslope rope (got 25)");
+    CHECK_MESSAGE_STARTS(fenceError([](FenceParams& p) { p.ropeSegment = 0.02; }),
+                         "--rope-segment 0.02 gives the support rope's bond");
+    // ... which are the second step, after the command line's size guard.
+    FenceParams p;
+    p.brakes = 6;
+    CHECK_MESSAGE(errorOf([&] { p.validateLayout(); }), "");
+    // The command line quotes a value as typed.
+    const ValueText typed = [](const std::string& name, double v) { return name == "post-tilt" ? "45.0" : fmt(v); };
+    CHECK_MESSAGE(fenceError([](FenceParams& p) { p.postTilt = 45; }, typed),
+                  "--post-tilt must be >= 0 and < 45 degrees (got 45.0)");
+    // The panels' own checks, named after the panel options.
+    HexParams hp;
+    hp.snapFraction = 0.7;
+    CHECK_MESSAGE(errorOf([&] { hp.validate(); }), "--snap must be < 0.5 (got 0.7)");
+    SquareParams sp;
+    sp.cell = 5;
+    CHECK_MESSAGE(errorOf([&] { sp.validate(); }), "--cell must be <= --width (got 5 > 3)");
+}
+
 // ---- shapes ---------------------------------------------------------------------------------
 
 // Closed two-manifold with consistent orientation: each directed edge once, its reverse once.
@@ -707,6 +785,7 @@ int main() {
     testSquare();
     testCompound();
     testBeam();
+    testFenceValidation();
     testShapes();
     testWriter();
     std::printf("%d checks, %d failures\n", checks, failures);

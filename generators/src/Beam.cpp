@@ -19,4 +19,21 @@ NetModel Beam::build() const {
     return m;
 }
 
+NetDescription Beam::describe() const {
+    NetDescription d;
+    d.kind = "beam";
+    d.atomTypes = 3;
+    d.bondTypes = 1;
+    d.atomTypeNames = {{atype::BeamInterior, "beam_interior"}, {atype::BeamRoot, "beam_root"}, {atype::BeamTip, "beam_tip"}};
+    d.bondTypeNames = {{btype::Beam, "beam"}};
+    d.centre << 0.5 * p_.length, 0, 0;
+    d.width = p_.length;
+    d.height = 0;
+    d.wires.set("beam", wireJson(p_.diameter));
+    d.node.set("beam", nodeJson(p_.nodeDiameter, p_.density * M_PI * 0.25 * p_.diameter * p_.diameter * p_.length / p_.elements));
+    d.extra.set("length", p_.length).set("elements", p_.elements).set("diameter", p_.diameter);
+    d.extra.set("density", p_.density).set("mass_rule", "cylinder mass lumped: half element at the ends");
+    return d;
+}
+
 }  // namespace wirenet

@@ -14,6 +14,9 @@ class Beam {
 public:
     explicit Beam(const BeamParams& p) : p_(p) {}
     NetModel build() const;
+    // The beam's metadata: types, wire, node, the "beam" keys. The command and the box are the
+    // caller's.
+    NetDescription describe() const;
 
 private:
     BeamParams p_;

@@ -335,50 +335,57 @@ int runCompound(const std::vector<std::string>& args) {
     return 0;
 }
 
-int runBeam(const std::vector<std::string>& args) {
-    Options o("beam");
+// ---- beam -----------------------------------------------------------------------------------
+
+// The beam's options; the defaults are BeamParams'.
+void addBeamOptions(Options& o) {
+    const BeamParams d;
     o.setSummary("Straight cantilever chain along +x: root (type 2) at x = 0, tip (type 3) at x = L.");
-    o.addNumber("length", 2.0, "m", "beam length");
-    o.addInt("elements", 5, 1, "number of elements (bonds)");
-    o.addNumber("diameter", 0.01, "m", "beam (bonded cylinder) diameter");
+    o.addNumber("length", d.length, "m", "beam length");
+    o.addInt("elements", d.elements, 1, "number of elements (bonds)");
+    o.addNumber("diameter", d.diameter, "m", "beam (bonded cylinder) diameter");
     o.addOptionalNumber("node-diameter", "m", "node sphere diameter", Bound::Positive, "beam diameter");
-    o.addNumber("density", 7850.0, "kg/m3", "density of the cylinder, lumped to the nodes");
+    o.addNumber("density", d.density, "kg/m3", "density of the cylinder, lumped to the nodes");
     addBox(o, 0.1, 0, 0, "-length");
     addMaxNodes(o);
     o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json)");
-    if (!o.parse(args)) { std::cout << o.help(); return 0; }
-    const std::string out = requireOut(o);
-    checkPrefix(out);
+}
+
+BeamParams beamParams(const Options& o) {
     BeamParams p;
     p.length = o.num("length");
     p.elements = int(o.integer("elements"));
     p.diameter = o.num("diameter");
     p.nodeDiameter = o.isSet("node-diameter") ? o.num("node-diameter") : p.diameter;
     p.density = o.num("density");
-    checkSize(o, p.elements + 1.0);
-    const NetModel m = Beam(p).build();
+    return p;
+}
 
-    NetDescription d;
-    d.kind = "beam";
-    d.command = "beam " + o.given();
-    d.atomTypes = 3;
-    d.bondTypes = 1;
-    d.atomTypeNames = {{1, "beam_interior"}, {2, "beam_root"}, {3, "beam_tip"}};
-    d.bondTypeNames = {{1, "beam"}};
-    d.centre << 0.5 * p.length, 0, 0;
-    d.width = p.length;
-    d.height = 0;
-    d.wires.set("beam", wireJson(p.diameter));
-    d.node.set("beam", nodeJson(p.nodeDiameter, p.density * M_PI * 0.25 * p.diameter * p.diameter * p.length / p.elements));
-    d.extra.set("length", p.length).set("elements", p.elements).set("diameter", p.diameter);
-    d.extra.set("density", p.density).set("mass_rule", "cylinder mass lumped: half element at the ends");
+// --margin-x and --margin-y around the beam; in z --zlo and --zhi, by default +-length (room
+// for the tip to deflect either way).
+Box beamBox(const Options& o, const BeamParams& p) {
     const double zlo = o.isSet("zlo") ? o.num("zlo") : -p.length, zhi = o.isSet("zhi") ? o.num("zhi") : p.length;
     if (!(zlo < 0)) throw UsageError("--zlo must be below the nodes (got " + o.str("zlo") + ")");
     if (!(zhi > 0)) throw UsageError("--zhi must be above the nodes (got " + o.str("zhi") + ")");
-    d.box.lo << -o.num("margin-x"), -o.num("margin-y"), zlo;
-    d.box.hi << p.length + o.num("margin-x"), o.num("margin-y"), zhi;
-    if (!(d.box.lo.y() < d.box.hi.y()))
-        throw UsageError("--margin-y must be > 0 for a beam (got " + o.str("margin-y") + ")");
+    Box b;
+    b.lo << -o.num("margin-x"), -o.num("margin-y"), zlo;
+    b.hi << p.length + o.num("margin-x"), o.num("margin-y"), zhi;
+    if (!(b.lo.y() < b.hi.y())) throw UsageError("--margin-y must be > 0 for a beam (got " + o.str("margin-y") + ")");
+    return b;
+}
+
+int runBeam(const std::vector<std::string>& args) {
+    Options o("beam");
+    addBeamOptions(o);
+    if (!o.parse(args)) { std::cout << o.help(); return 0; }
+    const std::string out = requireOut(o);
+    checkPrefix(out);
+    const BeamParams p = beamParams(o);
+    checkSize(o, p.elements + 1.0);
+    const NetModel m = Beam(p).build();
+    NetDescription d = Beam(p).describe();
+    d.command = "beam " + o.given();
+    d.box = beamBox(o, p);
     checkModel(o, m, d.box);
     MeshWriter(m, d).write(out);
     std::cout << summary("beam", m, d) << "\n  -> " << out << ".data, " << out << ".json\n";

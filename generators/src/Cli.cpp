@@ -521,29 +521,14 @@ std::string jsonPathFor(const std::string& stl) {
     return stl + ".json";
 }
 
-Json matrixJson(const Eigen::Matrix3d& m) {
-    Json a = Json::array();
-    for (int i = 0; i < 3; ++i) a.push(Json::vec3(m.row(i)));
-    return a;
-}
-
-int runShape(const std::vector<std::string>& args) {
-    if (args.empty() || args[0] == "--help" || args[0] == "-h") {
-        std::cout << "usage: wirenet-gen shape spheroid|cone|truncated-cube [options] --out FILE.stl\n"
-                     "`wirenet-gen shape KIND --help` lists the options.\n";
-        if (args.empty()) throw UsageError("shape kind missing (got nothing)");
-        return 0;
-    }
-    const std::string kind = args[0];
-    if (kind != "spheroid" && kind != "cone" && kind != "truncated-cube")
-        throw UsageError("unknown shape " + kind + " (expected spheroid, cone or truncated-cube)");
-    Options o("shape " + kind);
-    const bool cube = kind == "truncated-cube";
-    if (kind == "spheroid") {
+// A shape's options: its size by kind, the resolution of the round ones, the mass.
+void addShapeOptions(Options& o, ShapeKind kind) {
+    const bool cube = kind == ShapeKind::TruncatedCube;
+    if (kind == ShapeKind::Spheroid) {
         o.setSummary("Semi-spheroid platter (Pol et al. 2017): base disc at z = 0, dome towards -z.");
         o.addNumber("radius", 0.5, "m", "base radius");
         o.addNumber("height", 0.15, "m", "dome height");
-    } else if (kind == "cone") {
+    } else if (kind == ShapeKind::Cone) {
         o.setSummary("Cone platter (Bonati et al. 2004): base disc at z = 0, apex at z = -height.");
         o.addNumber("radius", 0.34, "m", "base radius");
         o.addNumber("height", 0.78, "m", "height");
@@ -558,90 +543,98 @@ int runShape(const std::vector<std::string>& args) {
     if (cube) o.addNumber("mass", 44.5, "kg", "mass for the inertia tensor");
     else o.addOptionalNumber("mass", "kg", "mass for the inertia tensor", Bound::Positive, "none");
     o.addString("out", "required", "output STL file (also writes FILE.json)");
-    std::vector<std::string> rest(args.begin() + 1, args.end());
-    if (!o.parse(rest)) { std::cout << o.help(); return 0; }
-    const std::string out = requireOut(o);
-    if (jsonPathFor(out) == out)
-        throw UsageError("--out must name the STL file, not its .json (got " + out + ")");
-    AtomicFile::checkTargets({out, jsonPathFor(out)});
+}
 
-    TriMesh mesh;
-    double analytic = 0;
-    Json params = Json::object();
-    if (cube) {
-        const double s = o.num("side");
-        const double c = o.isSet("corner-cut") ? o.num("corner-cut") : s / 3.0;
-        if (!(c < 0.5 * s))
-            throw UsageError("--corner-cut must be < --side/2 (got " + fmt(c) + " >= " + fmt(0.5 * s) + ")");
-        mesh = ShapeBuilder::truncatedCube(s, c);
-        analytic = ShapeBuilder::truncatedCubeVolume(s, c);
-        params.set("side", s).set("corner_cut", c);
-    } else {
-        const double r = o.num("radius"), h = o.num("height");
-        const int n = int(o.integer("resolution"));
-        const double tip = kind == "cone" ? o.num("tip-radius") : 0.0;
-        if (kind == "cone" && !(tip < r))
-            throw UsageError("--tip-radius must be < --radius (got " + fmt(tip) + " >= " + fmt(r) + ")");
-        mesh = kind == "cone" ? ShapeBuilder::cone(r, h, n, tip) : ShapeBuilder::semiSpheroid(r, h, n);
-        analytic = kind == "cone" ? ShapeBuilder::coneVolume(r, h, tip) : ShapeBuilder::semiSpheroidVolume(r, h);
-        params.set("radius", r).set("height", h).set("resolution", n);
-        if (kind == "cone") params.set("tip_radius", tip);
+// The shape's options as given; ShapeParams::validate() checks them.
+ShapeParams shapeParams(const Options& o, ShapeKind kind) {
+    ShapeParams p;
+    p.kind = kind;
+    if (kind == ShapeKind::TruncatedCube) {
+        p.side = o.num("side");
+        p.cornerCut = o.isSet("corner-cut") ? o.num("corner-cut") : p.side / 3.0;
+        p.mass = o.num("mass");
+        return p;
     }
-    const double mass = o.isSet("mass") || cube ? o.num("mass") : 0.0;
+    p.radius = o.num("radius");
+    p.height = o.num("height");
+    p.resolution = int(o.integer("resolution"));
+    if (kind == ShapeKind::Cone) p.tipRadius = o.num("tip-radius");
+    if (o.isSet("mass")) p.mass = o.num("mass");
+    return p;
+}
+
+// The mesh's mass properties, refused unless finite: extreme but finite sizes can still over-
+// or underflow in them. Round-off of exactly symmetric quantities is printed as 0.
+MassProperties checkedMassProperties(const Options& o, const TriMesh& mesh, double mass, double analytic) {
     MassProperties mp = massProperties(mesh, mass);
-    // Round-off of exactly symmetric quantities is printed as 0.
     const double scale = mesh.vertices.empty() ? 1.0 : (mesh.vertices[0] - mp.centroid).norm();
     for (int i = 0; i < 3; ++i)
         if (std::abs(mp.centroid[i]) < 1e-12 * scale) mp.centroid[i] = 0;
-    {
-        const std::string values = o.givenExcept("out");
-        auto bad = [&](const std::string& what, double v) {
-            throw UsageError("the shape's " + what + " is not a finite positive number (got " + fmt(v) +
-                             ") with " + (values.empty() ? std::string("the defaults") : values));
-        };
-        if (!(std::isfinite(mp.volume) && mp.volume > 0)) bad("volume", mp.volume);
-        if (!(std::isfinite(analytic) && analytic > 0)) bad("analytic volume", analytic);
-        for (int i = 0; i < 3; ++i)
-            if (!std::isfinite(mp.centroid[i])) bad("centroid", mp.centroid[i]);
-        if (mass > 0) {
-            if (!(std::isfinite(mass / mp.volume))) bad("density", mass / mp.volume);
-            for (int i = 0; i < 9; ++i)
-                if (!std::isfinite(mp.inertia(i))) bad("inertia", mp.inertia(i));
-        }
-        for (const auto& v : mesh.vertices)
-            for (int i = 0; i < 3; ++i)
-                if (!std::isfinite(v[i])) bad("vertex coordinate", v[i]);
+    const std::string values = o.givenExcept("out");
+    auto bad = [&](const std::string& what, double v) {
+        throw UsageError("the shape's " + what + " is not a finite positive number (got " + fmt(v) +
+                         ") with " + (values.empty() ? std::string("the defaults") : values));
+    };
+    if (!(std::isfinite(mp.volume) && mp.volume > 0)) bad("volume", mp.volume);
+    if (!(std::isfinite(analytic) && analytic > 0)) bad("analytic volume", analytic);
+    for (int i = 0; i < 3; ++i)
+        if (!std::isfinite(mp.centroid[i])) bad("centroid", mp.centroid[i]);
+    if (mass > 0) {
+        if (!(std::isfinite(mass / mp.volume))) bad("density", mass / mp.volume);
+        for (int i = 0; i < 9; ++i)
+            if (!std::isfinite(mp.inertia(i))) bad("inertia", mp.inertia(i));
     }
+    for (const auto& v : mesh.vertices)
+        for (int i = 0; i < 3; ++i)
+            if (!std::isfinite(v[i])) bad("vertex coordinate", v[i]);
     const double imax = mp.inertia.cwiseAbs().maxCoeff();
     mp.inertia = mp.inertia.unaryExpr([imax](double v) { return std::abs(v) < 1e-12 * imax ? 0.0 : v; });
+    return mp;
+}
 
-    Json j = Json::object();
-    j.set("generator", "wirenet-gen").set("kind", "shape").set("shape", kind);
-    j.set("command", "wirenet-gen shape " + kind + " " + o.given()).set("stl", out);
-    j.set("parameters", params).set("facets", long(mesh.faces.size()));
-    j.set("volume", mp.volume).set("volume_analytic", analytic);
-    j.set("volume_rel_error", mp.volume / analytic - 1).set("centroid", Json::vec3(mp.centroid));
-    if (mass > 0) {
-        j.set("mass", mass).set("density", mass / mp.volume).set("inertia", matrixJson(mp.inertia));
-        j.set("inertia_note", "about the centroid, axes of the STL frame, kg m2");
-    }
-    AtomicFile stl(out), meta(jsonPathFor(out));
-    StlWriter::write(stl.stream(), mesh, kind);
-    meta.stream() << j.dump(2) << "\n";
-    AtomicFile::commitAll({&stl, &meta});
-
-    std::cout << "wirenet-gen shape " << kind << ": " << mesh.faces.size() << " facets, volume "
-              << fmt(mp.volume) << " m3 (analytic " << fmt(analytic) << ", "
-              << fmt(100 * (mp.volume / analytic - 1)) << " %), centroid (" << fmt(mp.centroid.x()) << ", "
-              << fmt(mp.centroid.y()) << ", " << fmt(mp.centroid.z()) << ")\n";
-    if (mass > 0) {
-        std::cout << "  mass " << fmt(mass) << " kg, density " << fmt(mass / mp.volume)
-                  << " kg/m3, inertia about the centroid [kg m2]:\n";
+std::string shapeSummary(const ShapeParams& p, const TriMesh& mesh, const MassProperties& mp) {
+    const double analytic = p.volume();
+    std::ostringstream os;
+    os << "wirenet-gen shape " << shapeKindName(p.kind) << ": " << mesh.faces.size() << " facets, volume "
+       << fmt(mp.volume) << " m3 (analytic " << fmt(analytic) << ", " << fmt(100 * (mp.volume / analytic - 1))
+       << " %), centroid (" << fmt(mp.centroid.x()) << ", " << fmt(mp.centroid.y()) << ", " << fmt(mp.centroid.z())
+       << ")\n";
+    if (p.mass > 0) {
+        os << "  mass " << fmt(p.mass) << " kg, density " << fmt(p.mass / mp.volume)
+           << " kg/m3, inertia about the centroid [kg m2]:\n";
         for (int i = 0; i < 3; ++i)
-            std::cout << "    " << fmt(mp.inertia(i, 0)) << " " << fmt(mp.inertia(i, 1)) << " "
-                      << fmt(mp.inertia(i, 2)) << "\n";
+            os << "    " << fmt(mp.inertia(i, 0)) << " " << fmt(mp.inertia(i, 1)) << " " << fmt(mp.inertia(i, 2)) << "\n";
     }
-    std::cout << "  -> " << out << ", " << jsonPathFor(out) << "\n";
+    return os.str();
+}
+
+int runShape(const std::vector<std::string>& args) {
+    if (args.empty() || args[0] == "--help" || args[0] == "-h") {
+        std::cout << "usage: wirenet-gen shape spheroid|cone|truncated-cube [options] --out FILE.stl\n"
+                     "`wirenet-gen shape KIND --help` lists the options.\n";
+        if (args.empty()) throw UsageError("shape kind missing (got nothing)");
+        return 0;
+    }
+    const std::string name = args[0];
+    ShapeKind kind;
+    if (!parseShapeKind(name, kind))
+        throw UsageError("unknown shape " + name + " (expected spheroid, cone or truncated-cube)");
+    Options o("shape " + name);
+    addShapeOptions(o, kind);
+    if (!o.parse({args.begin() + 1, args.end()})) { std::cout << o.help(); return 0; }
+    const std::string out = requireOut(o), json = jsonPathFor(out);
+    if (json == out) throw UsageError("--out must name the STL file, not its .json (got " + out + ")");
+    AtomicFile::checkTargets({out, json});
+
+    const ShapeParams p = shapeParams(o, kind);
+    p.validate();
+    const TriMesh mesh = p.mesh();
+    const MassProperties mp = checkedMassProperties(o, mesh, p.mass, p.volume());
+    AtomicFile stl(out), meta(json);
+    StlWriter::write(stl.stream(), mesh, name);
+    meta.stream() << StlWriter::metadata(p, mesh, mp, "shape " + name + " " + o.given(), out).dump(2) << "\n";
+    AtomicFile::commitAll({&stl, &meta});
+    std::cout << shapeSummary(p, mesh, mp) << "  -> " << out << ", " << json << "\n";
     return 0;
 }
 

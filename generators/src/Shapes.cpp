@@ -209,4 +209,47 @@ double ShapeBuilder::truncatedCubeInertia(double s, double c, double mass) {
     return rho * (std::pow(s, 5) / 6 - 8 * corner);
 }
 
+const char* shapeKindName(ShapeKind k) {
+    switch (k) {
+        case ShapeKind::Spheroid: return "spheroid";
+        case ShapeKind::Cone: return "cone";
+        case ShapeKind::TruncatedCube: return "truncated-cube";
+    }
+    return "spheroid";
+}
+
+bool parseShapeKind(const std::string& text, ShapeKind& k) {
+    for (ShapeKind c : {ShapeKind::Spheroid, ShapeKind::Cone, ShapeKind::TruncatedCube})
+        if (text == shapeKindName(c)) {
+            k = c;
+            return true;
+        }
+    return false;
+}
+
+void ShapeParams::validate() const {
+    if (kind == ShapeKind::TruncatedCube && !(cornerCut < 0.5 * side))
+        throw UsageError("--corner-cut must be < --side/2 (got " + fmt(cornerCut) + " >= " + fmt(0.5 * side) + ")");
+    if (kind == ShapeKind::Cone && !(tipRadius < radius))
+        throw UsageError("--tip-radius must be < --radius (got " + fmt(tipRadius) + " >= " + fmt(radius) + ")");
+}
+
+TriMesh ShapeParams::mesh() const {
+    switch (kind) {
+        case ShapeKind::Spheroid: return ShapeBuilder::semiSpheroid(radius, height, resolution);
+        case ShapeKind::Cone: return ShapeBuilder::cone(radius, height, resolution, tipRadius);
+        case ShapeKind::TruncatedCube: return ShapeBuilder::truncatedCube(side, cornerCut);
+    }
+    return TriMesh();
+}
+
+double ShapeParams::volume() const {
+    switch (kind) {
+        case ShapeKind::Spheroid: return ShapeBuilder::semiSpheroidVolume(radius, height);
+        case ShapeKind::Cone: return ShapeBuilder::coneVolume(radius, height, tipRadius);
+        case ShapeKind::TruncatedCube: return ShapeBuilder::truncatedCubeVolume(side, cornerCut);
+    }
+    return 0;
+}
+
 }  // namespace wirenet

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "Usage.h"
+
 namespace wirenet {
 
 struct TriMesh {
@@ -41,6 +43,28 @@ public:
     static double truncatedCubeVolume(double s, double c);
     // Principal moment (all three equal by cubic symmetry) of the truncated cube.
     static double truncatedCubeInertia(double s, double c, double mass);
+};
+
+enum class ShapeKind { Spheroid, Cone, TruncatedCube };
+const char* shapeKindName(ShapeKind k);  // "spheroid", "cone", "truncated-cube"
+// Parses a shape kind's name; false for anything else.
+bool parseShapeKind(const std::string& text, ShapeKind& k);
+
+// A shape of wirenet-gen shape: a platter (spheroid, cone) or the impact block. No defaults
+// here: they depend on the kind (the command line's options hold them).
+struct ShapeParams {
+    ShapeKind kind = ShapeKind::Spheroid;
+    double radius = 0, height = 0;   // spheroid, cone: base radius, depth below z = 0, m
+    double tipRadius = 0;            // cone: flat tip disc instead of the apex (0 = sharp), m
+    int resolution = 0;              // spheroid, cone: segments around the axis
+    double side = 0, cornerCut = 0;  // truncated cube, m
+    double mass = 0;                 // kg, for the inertia tensor; 0 = none
+
+    // Throws UsageError unless the cone's tip stays inside its base and the cube's corner cuts
+    // inside a face. Each number's own range (> 0) is the option parser's.
+    void validate() const;
+    TriMesh mesh() const;
+    double volume() const;  // analytic
 };
 
 }  // namespace wirenet

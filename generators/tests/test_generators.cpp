@@ -567,6 +567,25 @@ static void testFenceValidation() {
     CHECK_MESSAGE(errorOf([&] { sp.validate(); }), "--cell must be <= --width (got 5 > 3)");
 }
 
+static void testShapeValidation() {
+    std::printf("shape parameter validation\n");
+    ShapeParams cube;
+    cube.kind = ShapeKind::TruncatedCube;
+    cube.side = 0.45;
+    cube.cornerCut = 0.15;
+    CHECK_MESSAGE(errorOf([&] { cube.validate(); }), "");
+    cube.cornerCut = 0.225;
+    CHECK_MESSAGE(errorOf([&] { cube.validate(); }), "--corner-cut must be < --side/2 (got 0.225 >= 0.225)");
+    ShapeParams cone;
+    cone.kind = ShapeKind::Cone;
+    cone.radius = 0.34;
+    cone.height = 0.78;
+    cone.tipRadius = 0.5;
+    CHECK_MESSAGE(errorOf([&] { cone.validate(); }), "--tip-radius must be < --radius (got 0.5 >= 0.34)");
+    cone.kind = ShapeKind::Spheroid;  // a spheroid has no tip
+    CHECK_MESSAGE(errorOf([&] { cone.validate(); }), "");
+}
+
 // ---- shapes ---------------------------------------------------------------------------------
 
 // Closed two-manifold with consistent orientation: each directed edge once, its reverse once.
@@ -786,6 +805,7 @@ int main() {
     testCompound();
     testBeam();
     testFenceValidation();
+    testShapeValidation();
     testShapes();
     testWriter();
     std::printf("%d checks, %d failures\n", checks, failures);

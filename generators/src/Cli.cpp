@@ -35,21 +35,23 @@ void addPanelSize(Options& o) {
     o.addNumber("height", 3.0, "m", "panel size along y (clipped at +-H/2)");
 }
 
+// The hex layer's options (`pre` prefixes the node's in a compound net); defaults HexParams'.
 void addHexOptions(Options& o, const std::string& pre) {
-    o.addNumber("axis-distance", 0.080, "m", "distance between neighbouring twist axes (x)");
-    o.addNumber("twist-length", 0.040, "m", "length of a double twist (y)");
-    o.addNumber("rise", 0.040, "m", "y-distance spanned by a single-wire bond");
-    o.addNumber("wire-diameter", 0.0027, "m", "mesh wire diameter");
-    o.addNumber("selvedge-diameter", 0.0034, "m", "selvedge (edge) wire diameter");
-    o.addNumber(pre + "node-diameter", 0.0108, "m", "hex node sphere DIAMETER (numerical, 4 d)");
+    const HexParams d;
+    o.addNumber("axis-distance", d.axisDistance, "m", "distance between neighbouring twist axes (x)");
+    o.addNumber("twist-length", d.twistLength, "m", "length of a double twist (y)");
+    o.addNumber("rise", d.rise, "m", "y-distance spanned by a single-wire bond");
+    o.addNumber("wire-diameter", d.wireDiameter, "m", "mesh wire diameter");
+    o.addNumber("selvedge-diameter", d.selvedgeDiameter, "m", "selvedge (edge) wire diameter");
+    o.addNumber(pre + "node-diameter", d.nodeDiameter, "m", "hex node sphere DIAMETER (numerical, 4 d)");
     o.addOptionalNumber(pre + "node-radius", "m", "hex node sphere RADIUS instead of --" + pre +
                         "node-diameter (YADE's hexaNet gives radii)", Bound::Positive);
-    o.addString(pre + "node-mass", "0.0039", "hex node mass in kg, or 'wire' (steel wire mass lumped evenly)");
+    o.addString(pre + "node-mass", fmt(d.nodeMass), "hex node mass in kg, or 'wire' (steel wire mass lumped evenly)");
     o.addOptionalNumber(pre + "areal-mass", "kg/m2", "if set, hex node mass = areal mass x W x H / nodes");
-    o.addNumber("snap", 0.3, "-", "boundary merge tolerance as a fraction of the shortest lattice bond");
-    o.addString("placement", "twist", "hex lattice: twist (a twist on the centre), wire (a single-wire "
+    o.addNumber("snap", d.snapFraction, "-", "boundary merge tolerance as a fraction of the shortest lattice bond");
+    o.addString("placement", placementName(d.placement), "hex lattice: twist (a twist on the centre), wire (a single-wire "
                 "midpoint there) or corner (a twist on the lower-left corner, as YADE's hexaNet)");
-    o.addString("selvedge", "loop", "hex edge wire: loop (a selvedge bond between consecutive edge "
+    o.addString("selvedge", d.selvedge ? "loop" : "none", "hex edge wire: loop (a selvedge bond between consecutive edge "
                 "nodes) or none (no edge wire, as YADE's hexaNet)");
 }
 
@@ -62,15 +64,17 @@ double nodeDiameter(const Options& o, const std::string& pre, double diameter) {
     return 2.0 * o.num(pre + "node-radius");
 }
 
+// The square layer's options (`pre` prefixes the node's in a compound net); defaults SquareParams'.
 void addSquareOptions(Options& o, const std::string& pre) {
-    o.addNumber("cell", 0.30, "m", "square cell size (rope spacing)");
-    o.addNumber("rope-diameter", 0.010, "m", "strand-rope diameter");
-    o.addInt("elements", 3, 1, "rope elements per cell side");
+    const SquareParams d;
+    o.addNumber("cell", d.cell, "m", "square cell size (rope spacing)");
+    o.addNumber("rope-diameter", d.ropeDiameter, "m", "strand-rope diameter");
+    o.addInt("elements", d.elements, 1, "rope elements per cell side");
     o.addOptionalNumber(pre + "node-diameter", "m", "square node sphere DIAMETER", Bound::Positive, "rope diameter");
     o.addOptionalNumber(pre + "node-radius", "m", "square node sphere RADIUS instead of --" + pre +
                         "node-diameter", Bound::Positive);
-    o.addNumber("rope-mass", 0.40, "kg/m", "rope mass per metre, lumped to the nodes");
-    o.addNumber("edge-drop", 0.25, "-", "drop an interior rope closer than this x cell to the edge");
+    o.addNumber("rope-mass", d.ropeMass, "kg/m", "rope mass per metre, lumped to the nodes");
+    o.addNumber("edge-drop", d.dropFraction, "-", "drop an interior rope closer than this x cell to the edge");
 }
 
 void addBox(Options& o, double margin, double zlo, double zhi, const std::string& zhint) {

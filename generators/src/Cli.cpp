@@ -28,7 +28,7 @@ const char* kUsage =
     "shapes write FILE.stl (ASCII) and FILE.json. `wirenet-gen SUB --help` lists the options.\n"
     "See doc/wirenet-gen.md.\n";
 
-// ---- option groups -------------------------------------------------------------------------
+// ---- option groups --------------------------------------------------------------------------
 
 void addPanelSize(Options& o) {
     o.addNumber("width", 3.0, "m", "panel size along x (clipped at +-W/2)");
@@ -53,15 +53,6 @@ void addHexOptions(Options& o, const std::string& pre) {
                 "midpoint there) or corner (a twist on the lower-left corner, as YADE's hexaNet)");
     o.addString("selvedge", d.selvedge ? "loop" : "none", "hex edge wire: loop (a selvedge bond between consecutive edge "
                 "nodes) or none (no edge wire, as YADE's hexaNet)");
-}
-
-// The node sphere's diameter: --node-radius doubled when given (never together with
-// --node-diameter: a size stated twice is a size stated ambiguously), else `diameter`.
-double nodeDiameter(const Options& o, const std::string& pre, double diameter) {
-    if (!o.isSet(pre + "node-radius")) return diameter;
-    if (o.wasGiven(pre + "node-diameter"))
-        throw UsageError("give --" + pre + "node-diameter or --" + pre + "node-radius, not both");
-    return 2.0 * o.num(pre + "node-radius");
 }
 
 // The square layer's options (`pre` prefixes the node's in a compound net); defaults SquareParams'.
@@ -98,6 +89,14 @@ constexpr double kBytesPerNode = 300;
 void addMaxNodes(Options& o) {
     o.addInt("max-nodes", kDefaultMaxNodes, 1,
              "refuse a model estimated above this many nodes (about 300 bytes of memory per node)");
+}
+
+// ---- shared: output targets, guards, the report ---------------------------------------------
+
+std::string requireOut(const Options& o) {
+    const std::string& out = o.str("out");
+    if (!o.wasGiven("out")) throw UsageError("--out is required (got nothing)");
+    return out;
 }
 
 std::string fmt3(double v) {
@@ -170,12 +169,32 @@ void checkPrefix(const std::string& out, const std::vector<std::string>& extensi
     AtomicFile::checkTargets(targets);
 }
 
-// ---- parameter extraction and checks --------------------------------------------------------
+// The one-line report of a net: counts per bond type, mass, bond lengths.
+std::string summary(const std::string& sub, const NetModel& m, const NetDescription& d) {
+    std::ostringstream os;
+    os << "wirenet-gen " << sub << ": " << m.nodes.size() << " atoms, " << m.bonds.size() << " bonds (";
+    bool first = true;
+    for (const auto& kv : m.bondsPerType()) {
+        os << (first ? "" : ", ") << d.bondTypeNames.at(kv.first) << " " << kv.second;
+        first = false;
+    }
+    double minLen = m.bonds.empty() ? 0 : 1e300;
+    for (const auto& b : m.bonds) minLen = std::min(minLen, m.bondLength(b));
+    os << "), mass " << fmt(m.totalMass()) << " kg";
+    if (d.area > 0) os << " (" << fmt(m.totalMass() / d.area) << " kg/m2)";
+    os << ", bond length " << fmt(minLen) << " .. " << fmt(m.maxBondLength()) << " m";
+    return os.str();
+}
 
-std::string requireOut(const Options& o) {
-    const std::string& out = o.str("out");
-    if (!o.wasGiven("out")) throw UsageError("--out is required (got nothing)");
-    return out;
+// ---- panels: hex, square, compound ----------------------------------------------------------
+
+// The node sphere's diameter: --node-radius doubled when given (never together with
+// --node-diameter: a size stated twice is a size stated ambiguously), else `diameter`.
+double nodeDiameter(const Options& o, const std::string& pre, double diameter) {
+    if (!o.isSet(pre + "node-radius")) return diameter;
+    if (o.wasGiven(pre + "node-diameter"))
+        throw UsageError("give --" + pre + "node-diameter or --" + pre + "node-radius, not both");
+    return 2.0 * o.num(pre + "node-radius");
 }
 
 // The hex options as given: node size, mass rule and the words. HexParams::validate() checks
@@ -240,22 +259,6 @@ Box panelBox(const Options& o, const NetModel& m) {
     return b;
 }
 
-std::string summary(const std::string& sub, const NetModel& m, const NetDescription& d) {
-    std::ostringstream os;
-    os << "wirenet-gen " << sub << ": " << m.nodes.size() << " atoms, " << m.bonds.size() << " bonds (";
-    bool first = true;
-    for (const auto& kv : m.bondsPerType()) {
-        os << (first ? "" : ", ") << d.bondTypeNames.at(kv.first) << " " << kv.second;
-        first = false;
-    }
-    double minLen = m.bonds.empty() ? 0 : 1e300;
-    for (const auto& b : m.bonds) minLen = std::min(minLen, m.bondLength(b));
-    os << "), mass " << fmt(m.totalMass()) << " kg";
-    if (d.area > 0) os << " (" << fmt(m.totalMass() / d.area) << " kg/m2)";
-    os << ", bond length " << fmt(minLen) << " .. " << fmt(m.maxBondLength()) << " m";
-    return os.str();
-}
-
 void finishPanel(const std::string& sub, const Options& o, const NetModel& m, NetDescription& d) {
     const std::string out = requireOut(o);
     d.command = sub + " " + o.given();
@@ -267,8 +270,6 @@ void finishPanel(const std::string& sub, const Options& o, const NetModel& m, Ne
     MeshWriter(m, d).write(out);
     std::cout << summary(sub, m, d) << "\n  -> " << out << ".data, " << out << ".json\n";
 }
-
-// ---- subcommands ----------------------------------------------------------------------------
 
 int runHex(const std::vector<std::string>& args) {
     Options o("hex");

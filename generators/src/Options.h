@@ -43,7 +43,8 @@ public:
     const std::string& str(const std::string& name) const;
     // A word option's value; throws "--NAME must be a, b or c (got x)" unless one of `words`.
     const std::string& choice(const std::string& name, const std::vector<std::string>& words) const;
-    // The values as typed, for the messages of the parameter types' validate().
+    // The values as typed, for the messages of the parameter types' validate(); it refers to
+    // this Options, which must outlive it.
     ValueText valueText() const;
     std::string help() const;
     // "--width 3 --height 3 ..." as given, for file headers.

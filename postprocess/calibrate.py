@@ -40,7 +40,7 @@ def from_s(s):
 def load_case(directory):
     """(fraction, displacement, force) of a case folder: case.json 'bending' (or the last number
     of the folder name) and platter.csv. Errors name the folder, file or key."""
-    from .study import BENDING_KEYS, check_bending, read_case_meta
+    from .casefolders import BENDING_KEYS, check_bending, read_case_meta
     if not os.path.isdir(directory):
         raise PostprocessError(f"{directory}: not a directory (--cases)")
     fraction = None

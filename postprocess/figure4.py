@@ -86,7 +86,7 @@ def select_frame(case, times):
 
 
 def load(case):
-    """Everything Figure 4 draws for a study.Case with a series: dict(points, cells, tension,
+    """Everything Figure 4 draws for a casefolders.Case with a series: dict(points, cells, tension,
     broken, body_points, body_triangles, time, frame, ...)."""
     net_pvd, body_pvd = vtu.case_series_paths(case.path)
     if not os.path.isfile(net_pvd):
@@ -209,7 +209,7 @@ def draw(data):
 
 
 def figure_case(case, prefix, outputs=None):
-    """Figure 4 of a study.Case into PREFIX.png and PREFIX.svg; returns the paths."""
+    """Figure 4 of a casefolders.Case into PREFIX.png and PREFIX.svg; returns the paths."""
     from .plots import save
     fig, _ = draw(load(case))
     return save(fig, prefix, outputs)

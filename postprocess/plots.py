@@ -5,7 +5,7 @@ import sys
 
 import numpy as np
 
-from . import study
+from . import casefolders
 from .csvio import read_csv
 from .errors import PostprocessError
 from .output import Outputs
@@ -13,14 +13,30 @@ from .output import Outputs
 FAMILY_COLOURS = {"DT": "tab:blue", "SW": "tab:orange", "selvedge": "tab:green",
                   "rope": "tab:red", "beam": "tab:purple"}
 LINESTYLES = ("-", "--", ":", "-.")
+# the paper's figures 3, 5 and 6: (the nets compared, families, x axis, title); their cases are
+# found by what they are (postprocess/claims.py), not by their names
 STUDY_FIGURES = {
-    "fig3_punch": (("punch_hex", "punch_compound"), ("DT", "SW"), "displacement",
+    "fig3_punch": (("hex", "compound"), ("DT", "SW"), "displacement",
                    "Figure 3: punch tests, tension in the central zone"),
-    "fig5_impact_hex": (("impact_hex", "impact_compound"), ("DT", "SW"), "time",
+    "fig5_impact_hex": (("hex", "compound"), ("DT", "SW"), "time",
                         "Figure 5: impact, hexagonal mesh wires"),
-    "fig6_impact_square": (("impact_square", "impact_compound"), ("rope",), "time",
+    "fig6_impact_square": (("square", "compound"), ("rope",), "time",
                            "Figure 6: impact, strand-rope (square) mesh"),
 }
+
+
+def _figure_cases(name, nets, summaries):
+    """The case names a study figure compares: the punch group for Figure 3, the first impact
+    group holding both nets (under the first dissipation model) for Figures 5 and 6."""
+    from . import claims
+    if name == "fig3_punch":
+        group = claims.punch_group(summaries)
+        return [group[n] for n in nets if n in group]
+    for model in claims.models(summaries):
+        for group in claims.impact_groups(summaries, model).values():
+            if all(n in group for n in nets):
+                return [group[n] for n in nets]
+    return []
 
 
 def _pyplot():
@@ -273,7 +289,7 @@ def study_figures(directory, cases=None, outputs=None):
     """Every figure the case folders allow, in DIR/figures, all or none; returns
     {figure: [paths]}. With ``outputs`` (output.Outputs) the figures are committed with the
     caller's other outputs (e.g. report.md and summary.json)."""
-    cases = study.discover(directory) if cases is None else cases
+    cases = casefolders.discover(directory) if cases is None else cases
     if outputs is not None:
         return _study_figures(directory, cases, outputs)
     with Outputs() as own:
@@ -288,13 +304,16 @@ def _study_figures(directory, cases, outputs):
         line = _optional_line(beams[0].line_path())
         written["fig1_beam"] = figure_beam(beams[0].tables["beam"],
                                            os.path.join(out, "fig1_beam"), line, outputs)
-    calibration = study.calibration_cases(cases)
+    calibration = casefolders.calibration_cases(cases)
     if calibration:
         curves = [(_format_bending(c), c.tables["platter"]["displacement"],
                    c.tables["platter"]["force"]) for c in calibration]
         written["fig2_calibration"] = figure_calibration(
             curves, os.path.join(out, "fig2_calibration"), outputs)
-    for name, (wanted, families, x, title) in STUDY_FIGURES.items():
+    from .report import case_summary
+    summaries = {n: case_summary(c) for n, c in cases.items()}
+    for name, (nets, families, x, title) in STUDY_FIGURES.items():
+        wanted = _figure_cases(name, nets, summaries)
         series = [(c, cases[c].zone()) for c in wanted
                   if c in cases and cases[c].usable and "zone" in cases[c].tables]
         if series:
@@ -352,22 +371,22 @@ def run(args):
     if labels and len(labels) != len(args.csv):
         raise PostprocessError(f"--labels: {len(labels)} labels for {len(args.csv)} files")
     if args.figure == "beam":
-        beam = read_csv(args.csv, required=study.TABLES["beam"][1])
+        beam = read_csv(args.csv, required=casefolders.TABLES["beam"][1])
         line = read_csv(args.line, required=("x", "deflection")) if args.line else None
         paths = figure_beam(beam, args.out, line)
     elif args.figure == "calibration":
         curves = []
         for index, path in enumerate(args.csv):
-            table = read_csv(path, required=study.TABLES["platter"][1])
+            table = read_csv(path, required=casefolders.TABLES["platter"][1])
             label = labels[index] if labels else _format_bending(
-                study.load_case(os.path.dirname(os.path.abspath(path))))
+                casefolders.load_case(os.path.dirname(os.path.abspath(path))))
             curves.append((label, table["displacement"], table["force"]))
         paths = figure_calibration(curves, args.out)
     else:
         series = []
         for index, path in enumerate(args.csv):
-            case = study.Case(_case_label(path, labels, index), os.path.dirname(path))
-            case.tables["zone"] = read_csv(path, required=study.TABLES["zone"][1])
+            case = casefolders.Case(_case_label(path, labels, index), os.path.dirname(path))
+            case.tables["zone"] = read_csv(path, required=casefolders.TABLES["zone"][1])
             series.append((case.name, case.zone()))
         paths = figure_zone(series, args.out, args.x, args.families, args.title)
     print(f"wrote {', '.join(paths)}")

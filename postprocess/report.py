@@ -1,27 +1,17 @@
 """DIR/report.md and DIR/summary.json: per-case peaks, the paper's three claims, the figures.
 
-Only numbers read from the case files are reported; absent or not-implemented cases are listed as
-such and a claim whose cases are absent is "not evaluated (case missing)".
+Only numbers read from the case folders are reported; cases that did not end "ok" are listed with
+their status; the paper's claims are judged on the cases that can show them
+(postprocess/claims.py), under each dissipation model the study holds.
 """
 
 import os
 
 import numpy as np
 
-from . import study
+from . import casefolders, claims
+from .claims import CLAIMS
 from .output import Outputs, json_text
-
-DEFAULT_EXPECTED = ("punch_hex", "punch_compound", "impact_hex", "impact_square",
-                    "impact_compound")
-HEX_CASES = ("punch_hex", "punch_compound", "impact_hex", "impact_compound")
-NOT_EVALUATED = "not evaluated (case missing)"
-CLAIMS = {
-    1: "DT (double-twist) bonds carry the highest individual force (peak max_tension DT > SW).",
-    2: "SW (single-wire) bonds carry most of the total force (peak total_tension SW > DT).",
-    3: "Under impact, the compound panel lowers the peak force in the strand-rope mesh "
-       "(peak total_tension of family rope: impact_compound < impact_square).",
-}
-
 
 # --- numbers per case -----------------------------------------------------------------------
 
@@ -73,9 +63,7 @@ def case_summary(case):
     """The numbers of one case (None where the file or the value is absent)."""
     summary = {"kind": case.kind, "status": case.status, "mode": case_mode(case),
                "errors": list(case.errors),
-               "files": sorted(study.TABLES[k][0] for k in case.tables)}
-    if case.status == "not-implemented":
-        return summary
+               "files": sorted(casefolders.TABLES[k][0] for k in case.tables)}
     tables = case.tables
     summary["peak_platter_force"] = _peak_abs(tables["platter"]["force"]) \
         if "platter" in tables else None
@@ -84,11 +72,12 @@ def case_summary(case):
     summary["zone"] = zone_peaks(case)
     if "beam" in tables:
         beam = tables["beam"]
-        summary["beam"] = [dict(zip(study.TABLES["beam"][1], map(float, row)))
-                           for row in zip(*(beam[c] for c in study.TABLES["beam"][1]))]
+        summary["beam"] = [dict(zip(casefolders.TABLES["beam"][1], map(float, row)))
+                           for row in zip(*(beam[c] for c in casefolders.TABLES["beam"][1]))]
         summary["beam_max_nrmse"] = _peak_abs(beam["nrmse"])
     for key in ("first_rupture", "edge_force_peak", "wall_time", "cpu_time", "started", "finished", "ended_by",
-                "first_rope_rupture", "ended_at_drop", "bending", "bending_source", "panel"):
+                "first_rope_rupture", "ended_at_drop", "bending", "bending_source", "panel",
+                "platter", "block", "verdict", "error"):
         summary[key] = case.meta.get(key)
     if case.kind == "impact":
         energy = case.meta.get("energy") or {}
@@ -253,139 +242,41 @@ def _percent(value):
 
 # --- impact peak comparison (Figures 5 and 6) -----------------------------------------------
 
-IMPACT_PAIRS = (("impact_hex", ("DT", "SW")), ("impact_square", ("rope",)))
-
-
 def impact_peak_rows(summaries):
-    """Rows (family, single case, compound ...) of the peak comparison single net vs compound:
-    peak total and peak maximum tension in the zone, and the compound / single ratios."""
+    """Rows (model, family, single case, compound case ...) of the peak comparison single net vs
+    compound, for every group of impacts that differ only in their net: peak total and peak
+    maximum tension in the zone, and the compound / single ratios."""
     rows = []
-    compound = summaries.get("impact_compound", {}).get("zone", {})
-    for single, families in IMPACT_PAIRS:
-        zone = summaries.get(single, {}).get("zone", {})
-        for family in families:
-            a, b = zone.get(family), compound.get(family)
-            if a is None and b is None:
+    for model in claims.models(summaries):
+        for nets in claims.impact_groups(summaries, model).values():
+            compound = nets.get("compound")
+            if compound is None:
                 continue
+            for net, families in (("hex", ("DT", "SW")), ("square", ("rope",))):
+                single = nets.get(net)
+                if single is None:
+                    continue
+                zone, zone_c = summaries[single].get("zone", {}), summaries[compound].get("zone", {})
+                for family in families:
+                    a, b = zone.get(family), zone_c.get(family)
+                    if a is None and b is None:
+                        continue
 
-            def value(entry, key):
-                return None if entry is None else entry[key]
+                    def value(entry, key):
+                        return None if entry is None else entry[key]
 
-            def ratio(key):
-                x, y = value(a, key), value(b, key)
-                return y / x if x and y is not None else None
-            rows.append({"family": family, "single": single,
-                         "single_peak_total": value(a, "peak_total_tension"),
-                         "compound_peak_total": value(b, "peak_total_tension"),
-                         "ratio_total": ratio("peak_total_tension"),
-                         "single_peak_max": value(a, "peak_max_tension"),
-                         "compound_peak_max": value(b, "peak_max_tension"),
-                         "ratio_max": ratio("peak_max_tension")})
+                    def ratio(key):
+                        x, y = value(a, key), value(b, key)
+                        return y / x if x and y is not None else None
+                    rows.append({"model": model, "family": family, "single": single,
+                                 "compound": compound,
+                                 "single_peak_total": value(a, "peak_total_tension"),
+                                 "compound_peak_total": value(b, "peak_total_tension"),
+                                 "ratio_total": ratio("peak_total_tension"),
+                                 "single_peak_max": value(a, "peak_max_tension"),
+                                 "compound_peak_max": value(b, "peak_max_tension"),
+                                 "ratio_max": ratio("peak_max_tension")})
     return rows
-
-
-# --- claims ---------------------------------------------------------------------------------
-
-def _family_peak(summary, family, key):
-    entry = summary.get("zone", {}).get(family)
-    return None if entry is None else entry[key]
-
-
-def _usable(cases, name):
-    case = cases.get(name)
-    return case is not None and case.usable and "zone" in case.tables
-
-
-def _absence(cases, name):
-    case = cases.get(name)
-    if case is None:
-        return "case missing"
-    if case.status != "ok":
-        return f"case {case.status}"
-    if case.errors:
-        return "unreadable files"
-    return "no zone_forces.csv"
-
-
-def _verdict(holds):
-    return ("supported" if all(holds) else "not supported"), all(holds)
-
-
-# The impact cases under the second dissipation model (bond damping instead of local damping,
-# inputs/cases/*_bonddamp.toml) carry this suffix; the claims are evaluated under each model.
-BOND_SUFFIX = "_bonddamp"
-MODELS = {"local": "local damping (the paper's, alpha 0.5)",
-          "bond": "bond damping (momentum-conserving, no local damping)"}
-
-
-def model_name(name, model):
-    """The case that stands for ``name`` under a dissipation model (punches: the same case,
-    quasi-static and so not a question of the impact's dissipation)."""
-    return name + BOND_SUFFIX if model == "bond" and name.startswith("impact_") else name
-
-
-def claim_dt_sw(number, cases, summaries, key, stronger, weaker, model="local"):
-    """Claims 1 and 2: family ``stronger`` beats ``weaker`` on peak ``key`` in every hex case."""
-    evidence, notes = [], []
-    names = [model_name(n, model) for n in HEX_CASES
-             if model == "local" or n.startswith("impact_")]
-    for name in names:
-        if not _usable(cases, name):
-            notes.append(f"{name}: not evaluated ({_absence(cases, name)})")
-            continue
-        a = _family_peak(summaries[name], stronger, key)
-        b = _family_peak(summaries[name], weaker, key)
-        if a is None or b is None or (a == 0 and b == 0):
-            notes.append(f"{name}: not evaluated (no {stronger}/{weaker} forces)")
-            continue
-        evidence.append({"case": name, stronger: a, weaker: b, "holds": bool(a > b)})
-    quick = any(summaries[e["case"]]["mode"] == "quick" for e in evidence)
-    return _claim(number, evidence, notes, any(_usable(cases, n) for n in names), quick)
-
-
-def claim_rope(cases, summaries, model="local"):
-    """Claim 3: rope peak total tension lower in impact_compound than in impact_square."""
-    evidence, notes = [], []
-    pair = [model_name(n, model) for n in ("impact_square", "impact_compound")]
-    missing = [n for n in pair if not _usable(cases, n)]
-    for name in missing:
-        notes.append(f"{name}: not evaluated ({_absence(cases, name)})")
-    if not missing:
-        square = summaries[pair[0]].get("zone", {}).get("rope")
-        compound = summaries[pair[1]].get("zone", {}).get("rope")
-        if square is None or compound is None:
-            notes.append("not evaluated (no rope family in the zone forces)")
-        else:
-            evidence.append({
-                "square_peak_total": square["peak_total_tension"],
-                "compound_peak_total": compound["peak_total_tension"],
-                "square_peak_max": square["peak_max_tension"],
-                "compound_peak_max": compound["peak_max_tension"],
-                "holds": bool(compound["peak_total_tension"] < square["peak_total_tension"])})
-    quick = bool(evidence) and any(summaries[n]["mode"] == "quick" for n in pair)
-    return _claim(3, evidence, notes, not missing, quick)
-
-
-QUICK_NOTE = " (from --quick cases: small panels, not the paper's)"
-
-
-def _claim(number, evidence, notes, present, quick=False):
-    """``present``: some needed case exists and is usable (but may lack the family data);
-    ``quick``: some of the evidence comes from --quick cases, and the verdict says so."""
-    if evidence:
-        verdict, supported = _verdict([e["holds"] for e in evidence])
-        verdict += QUICK_NOTE if quick else ""
-    else:
-        verdict = "not evaluated (no data)" if present else NOT_EVALUATED
-        supported = None
-    return {"id": number, "statement": CLAIMS[number], "verdict": verdict,
-            "supported": supported, "evidence": evidence, "notes": notes}
-
-
-def evaluate_claims(cases, summaries, model="local"):
-    return [claim_dt_sw(1, cases, summaries, "peak_max_tension", "DT", "SW", model),
-            claim_dt_sw(2, cases, summaries, "peak_total_tension", "SW", "DT", model),
-            claim_rope(cases, summaries, model)]
 
 
 # --- the two dissipation models side by side -------------------------------------------------
@@ -394,15 +285,23 @@ DISSIPATION_KEYS = ("damping", "bond_damping", "contact", "w_plastic", "e_releas
 
 
 def dissipation_rows(summaries):
-    """Per impact case present under both models: how the block's energy was taken by its
-    lowest point (fractions of E0), peak block and support forces, braking distance and the
-    peak zone tension per family, for each model."""
+    """Per impact case, under each dissipation model the study holds for the same net and
+    block: how the block's energy was taken by its lowest point (fractions of E0), peak block
+    and support forces, braking distance and the peak zone tension per family."""
     rows = []
-    for name, local in summaries.items():
-        bond = summaries.get(name + BOND_SUFFIX)
-        if not name.startswith("impact_") or name.endswith(BOND_SUFFIX) or bond is None:
+    found = claims.models(summaries)
+    if len(found) < 2:
+        return rows
+    by_load = {}
+    for model in found:
+        for (block, mode), nets in claims.impact_groups(summaries, model).items():
+            for net, name in nets.items():
+                by_load.setdefault((net, block, mode), []).append((model, name))
+    for (net, _, _), cases in sorted(by_load.items(), key=lambda kv: str(kv[0])):
+        if len(cases) < 2:
             continue
-        for model, s in (("local", local), ("bond", bond)):
+        for model, name in cases:
+            s = summaries[name]
             facts = s.get("impact") or {}
             energy = s.get("energy_at_lowest_point") or {}
             e0 = s.get("initial_energy")
@@ -422,16 +321,8 @@ def dissipation_rows(summaries):
 # --- expected cases -------------------------------------------------------------------------
 
 def missing_cases(cases, expected=None):
-    """Names (or groups) of expected cases absent from the directory."""
-    missing = []
-    if expected is None:
-        if not any(c.kind == "beam" for c in cases.values()):
-            missing.append("beam (no beam case)")
-        if not any(c.kind == "calibration" for c in cases.values()):
-            missing.append("calibration (no calib* case)")
-        expected = DEFAULT_EXPECTED
-    missing += [name for name in expected if name not in cases]
-    return missing
+    """Names of expected cases (the study's, when it says) absent from the directory."""
+    return [name for name in (expected or ()) if name not in cases]
 
 
 # --- markdown -------------------------------------------------------------------------------
@@ -490,9 +381,6 @@ def _case_rows(summaries):
     for name, s in summaries.items():
         status = s["status"] + (" (unreadable: " + "; ".join(s["errors"]) + ")"
                                 if s["errors"] else "")
-        if s["status"] == "not-implemented":
-            yield [name, s["kind"], s["mode"], "not implemented"] + ["n/a"] * 5
-            continue
         yield [name, s["kind"], s["mode"], status, fmt(s["peak_platter_force"]),
                fmt(s["peak_block_force"]),
                fmt_rupture(s["first_rupture"]), fmt(s["edge_force_peak"]),
@@ -512,8 +400,8 @@ def _claim_lines(claim):
     lines = [f"{claim['id']}. {claim['statement']}  ", f"   Verdict: **{claim['verdict']}**"]
     for e in claim["evidence"]:
         if claim["id"] == 3:
-            lines.append(f"   - impact_square rope: peak total {fmt(e['square_peak_total'], 'N')}, "
-                         f"peak max {fmt(e['square_peak_max'], 'N')}; impact_compound rope: "
+            lines.append(f"   - {e['square']} rope: peak total {fmt(e['square_peak_total'], 'N')}, "
+                         f"peak max {fmt(e['square_peak_max'], 'N')}; {e['compound']} rope: "
                          f"peak total {fmt(e['compound_peak_total'], 'N')}, peak max "
                          f"{fmt(e['compound_peak_max'], 'N')} -> "
                          f"{'holds' if e['holds'] else 'does not hold'}")
@@ -525,12 +413,11 @@ def _claim_lines(claim):
     return lines
 
 
-def _dissipation_lines(rows, claims, claims_bond):
-    """The impact cases under both dissipation models, and each claim's verdict under each."""
+def _dissipation_lines(rows, verdicts):
+    """The impact cases under each dissipation model, and each claim's verdict under each."""
     if not rows:
         return []
-    lines = ["", "## Dissipation models: local damping vs bond damping", "",
-             DISSIPATION_NOTE, ""]
+    lines = ["", "## Dissipation models side by side", "", DISSIPATION_NOTE, ""]
     lines += _table(["case", "model", "mode", "local damping / E0", "bond damping / E0",
                      "contacts / E0", "plastic / E0", "released / E0", "closure",
                      "peak block force [N]", "peak support force [N]", "braking distance [m]",
@@ -541,11 +428,12 @@ def _dissipation_lines(rows, claims, claims_bond):
                       fmt(r["edge_force_peak"]), fmt(r["braking_distance"]),
                       ", ".join(f"{f} {fmt(v)}" for f, v in r["peak_zone_total"].items())]
                      for r in rows])
-    lines += ["", "Verdicts under each model (impact cases; the quasi-static punches count "
-              "under local damping only):", ""]
-    lines += _table(["claim", MODELS["local"], MODELS["bond"]],
-                    [[str(a["id"]), a["verdict"], b["verdict"]]
-                     for a, b in zip(claims, claims_bond)])
+    names = list(verdicts)
+    lines += ["", "Verdicts under each model (impact cases of that model; the quasi-static "
+              "punches count under every model):", ""]
+    lines += _table(["claim"] + [claims.MODELS.get(m, m) for m in names],
+                    [[str(n)] + [verdicts[m][n - 1]["verdict"] for m in names]
+                     for n in CLAIMS])
     return lines
 
 
@@ -581,7 +469,7 @@ def elapsed(records):
     return max(b for _, b in spans) - min(a for a, _ in spans)
 
 
-def markdown(directory, summaries, claims, missing, figures, claims_bond=(), dissipation=()):
+def markdown(directory, summaries, verdicts, missing, figures, dissipation=()):
     lines = ["# WireNet study report", "", f"Study directory: `{os.path.abspath(directory)}`", "",
              "## Cases", "", "Peak forces are the largest |force| of platter.csv / block.csv; "
              "first rupture, edge-force peak and wall time come from case.json (n/a: not "
@@ -689,16 +577,17 @@ def markdown(directory, summaries, claims, missing, figures, claims_bond=(), dis
                          "NRMSE [-]"],
                         [[fmt(r["elements"]), fmt(r["load"]), fmt(r["tip_deflection"]),
                           fmt(r["analytic_deflection"]), fmt(r["nrmse"])] for r in s["beam"]])
-    lines += ["", "## The paper's claims", ""]
-    for claim in claims:
-        lines += _claim_lines(claim)
-    lines += _dissipation_lines(list(dissipation), claims, list(claims_bond))
-    lines += ["", "## Missing or not implemented cases", ""]
+    for model, verdict in verdicts.items():
+        lines += ["", "## The paper's claims" + (f" under {claims.MODELS.get(model, model)}"
+                                                 if len(verdicts) > 1 else ""), ""]
+        for claim in verdict:
+            lines += _claim_lines(claim)
+    lines += _dissipation_lines(list(dissipation), verdicts)
+    lines += ["", "## Cases that are missing or did not end ok", ""]
     absent = [f"- {name}: missing" for name in missing]
-    absent += [f"- {n}: not implemented" for n, s in summaries.items()
-               if s["status"] == "not-implemented"]
-    absent += [f"- {n}: status {s['status']}" for n, s in summaries.items()
-               if s["status"] not in ("ok", "not-implemented")]
+    absent += [f"- {n}: status {s['status']}" + (f": {s['verdict'] or s['error']}"
+                                                 if s.get("verdict") or s.get("error") else "")
+               for n, s in summaries.items() if s["status"] != "ok"]
     lines += absent or ["None."]
     lines += ["", "## Figures", ""]
     for name, paths in figures.items():
@@ -719,10 +608,11 @@ def markdown(directory, summaries, claims, missing, figures, claims_bond=(), dis
 
 def build(directory, expected=None, figures=True):
     """Write DIR/report.md, DIR/summary.json and the figures, all or none; return the summary."""
-    cases = study.discover(directory)
+    cases = casefolders.discover(directory)
     summaries = {name: case_summary(case) for name, case in cases.items()}
-    claims = evaluate_claims(cases, summaries)
-    claims_bond = evaluate_claims(cases, summaries, "bond")
+    verdicts = {}
+    if claims.evaluable(summaries):
+        verdicts = {m: claims.evaluate(summaries, m) for m in claims.models(summaries) or [None]}
     dissipation = dissipation_rows(summaries)
     missing = missing_cases(cases, expected)
     with Outputs() as outputs:
@@ -730,10 +620,9 @@ def build(directory, expected=None, figures=True):
         if figures:
             from .plots import study_figures
             written = study_figures(directory, cases, outputs)
+        first = next(iter(verdicts.values()), [])
         summary = {"generator": "postprocess report", "cases": summaries, "missing": missing,
-                   "not_implemented": [n for n, s in summaries.items()
-                                       if s["status"] == "not-implemented"],
-                   "claims": claims, "claims_bond_damping": claims_bond,
+                   "claims": first, "claims_by_model": verdicts,
                    "dissipation_models": dissipation,
                    "impact_peaks": impact_peak_rows(summaries),
                    "fence_comparison": fence_comparison(summaries),
@@ -744,8 +633,8 @@ def build(directory, expected=None, figures=True):
             handle.write(json_text(summary))
         with open(outputs.file(os.path.join(directory, "report.md")), "w",
                   encoding="utf-8") as handle:
-            handle.write(markdown(directory, summaries, claims, missing, written,
-                                  claims_bond, dissipation))
+            handle.write(markdown(directory, summaries, verdicts, missing, written,
+                                  dissipation))
     return summary
 
 

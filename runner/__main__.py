@@ -2,7 +2,7 @@
 
     /usr/bin/python3 -m runner run [STUDY|CASE|FILE.toml] [--quick] [--np N] [--out DIR]
                                    [--set KEY=VALUE ...]
-    /usr/bin/python3 -m runner new punch|impact|fence   a commented case file on stdout
+    /usr/bin/python3 -m runner new KIND               a commented case file on stdout
     /usr/bin/python3 -m runner keys                  the key tables of doc/case_files.md
 
 User errors are one line and exit code 2.
@@ -11,7 +11,7 @@ User errors are one line and exit code 2.
 import argparse
 import sys
 
-from . import templates
+from . import kinds, templates
 
 
 class _Parser(argparse.ArgumentParser):
@@ -47,7 +47,7 @@ def build_parser():
                      help="override a case-file key (TOML value; repeatable), e.g. "
                           "--set punch.speed=0.02 --set 'supports.left=\"pinned\"'")
     new = sub.add_parser("new", help="print a commented case-file template")
-    new.add_argument("kind", choices=("punch", "impact", "fence"))
+    new.add_argument("kind", choices=[k for k in kinds.NAMES if k != "cantilever"])
     sub.add_parser("keys", help="print the key tables of doc/case_files.md")
     return parser
 
@@ -57,9 +57,10 @@ def main(argv=None):
     if args.command == "run":
         from postprocess.errors import PostprocessError
         from . import study
+        from .errors import RunError
         try:
             study.run(args)
-        except PostprocessError as exc:     # a case failed: its folder and LIGGGHTS' ERROR line
+        except (RunError, PostprocessError) as exc:   # a case failed: its folder and the error
             print(f"wirenet run: error: {exc}", file=sys.stderr, flush=True)
             return 2
     elif args.command == "new":

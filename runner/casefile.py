@@ -11,11 +11,12 @@ import os
 import tomllib
 from dataclasses import dataclass, field
 
-from .schema import BY_PATH, KEYS, LIST_SECTIONS, NOT_FOR_FENCE, SECTIONS, applies
+from . import kinds
+from .errors import CaseFileError
+from .params import is_computed
+from .schema import BY_PATH, KEYS, LIST_SECTIONS, SECTIONS, applies, default_of, takers
 
-
-class CaseFileError(Exception):
-    """One line: FILE: KEY: what is wrong."""
+__all__ = ["Case", "CaseFileError", "read", "parse", "apply_override"]
 
 
 @dataclass
@@ -27,6 +28,7 @@ class Case:
     impacts: list = field(default_factory=list)    # one dict name -> value per impact
     zones: list = field(default_factory=list)      # one dict name -> value per zone
     quick: bool = False
+    stated: frozenset = frozenset()                # the keys the file (or --set) states
 
     def __getitem__(self, path):
         return self.values[path]
@@ -122,6 +124,25 @@ def _new_entry(raw, section):
 # ---------------------------------------------------------------------------------------------
 # checking
 
+def resolve(values):
+    """Replace computed defaults (params.ByKey, params.Derived) by their values, in as many
+    passes as their dependencies need."""
+    for _ in range(len(values) + 1):
+        pending = [p for p, v in values.items() if is_computed(v)]
+        if not pending:
+            return values
+        for path in pending:
+            default = values[path]
+            needed = [default.path] if hasattr(default, "path") else []
+            if any(is_computed(values.get(n)) for n in needed):
+                continue
+            try:
+                values[path] = default.value(values)
+            except KeyError:
+                continue          # it depends on a computed value not resolved yet
+    raise RuntimeError(f"schema: computed defaults depend on each other: {pending}")
+
+
 def _suggest(word, candidates):
     match = difflib.get_close_matches(word, candidates, n=1, cutoff=0.6)
     return f" (did you mean '{match[0]}'?)" if match else ""
@@ -145,45 +166,66 @@ class Checker:
     def case(self):
         kind = self.raw.get("kind")
         if kind is None:
-            self.fail("kind", "missing (punch, impact, cantilever or fence)")
+            self.fail("kind", f"missing ({', '.join(kinds.NAMES)})")
         kind = self.value(BY_PATH["kind"], kind, "kind")
         flat = {}
         self.flatten(self.raw, "", flat)
-        if kind == "fence":
-            self.refuse_panel_keys(flat)
+        flat.pop("kind")
+        stated = frozenset(flat)
         values = {}
         for key in KEYS:
-            if key.per_item or not applies(key, kind):
+            if key.per_item or key.path == "kind" or not applies(key, kind):
                 continue
             if key.path in flat:
                 values[key.path] = self.value(key, flat.pop(key.path), key.path)
             else:
-                values[key.path] = key.default_for(kind, self.quick)
-        for path in flat:
-            key = BY_PATH.get(path)
-            if key is not None and key.kind and key.kind != kind:
-                self.fail(path, f"only for kind '{key.kind}' (this case is '{kind}')")
+                values[key.path] = default_of(key, kind, self.quick)
+        for path in sorted(flat):
+            self.not_for_this_kind(path, kind)
             self.unknown(path)
-        if kind != "impact" and "impact" in self.raw:
-            first = _entries(self.raw, "impact")
-            name = next(iter(first[0]), "") if first and isinstance(first[0], dict) else ""
-            self.fail(f"impact.{name}".rstrip("."), f"only for kind 'impact' (this case is '{kind}')")
-        impacts = self.items("impact", kind) if kind == "impact" else []
-        if kind == "impact" and not impacts:
+        for section in LIST_SECTIONS:
+            if _entries(self.raw, section) and not any(
+                    applies(k, kind) for k in KEYS if k.section == section):
+                first = _entries(self.raw, section)[0]
+                name = next(iter(first), "") if isinstance(first, dict) else ""
+                key = BY_PATH.get(f"{section}.{name}") or next(
+                    k for k in KEYS if k.section == section)
+                self.not_for_this_kind(key.path, kind,
+                                       label=f"{section}.{name}".rstrip(".")
+                                       if section == "impact" else section)
+        resolve(values)
+        impacts = self.items("impact", kind) if applies(BY_PATH["impact.mass"], kind) else []
+        if applies(BY_PATH["impact.mass"], kind) and not impacts:
             impacts = [self.item_defaults("impact", kind)]
-        zones = self.items("output.zones", kind) or [self.item_defaults("output.zones", kind)]
-        case = Case(self.name, self.path, kind, values, impacts, zones, self.quick)
+        zones = []
+        if applies(BY_PATH["output.zones.name"], kind):
+            zones = self.items("output.zones", kind) or [self.item_defaults("output.zones", kind)]
+        case = Case(self.name, self.path, kind, values, impacts, zones, self.quick, stated)
         self.cross_checks(case)
         return case
 
-    def refuse_panel_keys(self, flat):
-        output = self.raw.get("output")
-        zones = ["output.zones"] if isinstance(output, dict) and "zones" in output else []
-        for path in list(flat) + zones:
-            if any(path == k or path.startswith(k) for k in NOT_FOR_FENCE):
-                self.fail(path, "not used by a fence case (module size: fence.spacing and "
-                                "fence.height; supports: its anchors and posts; it settles for "
-                                "fence.settle_time)")
+    def not_for_this_kind(self, path, kind, label=None):
+        """Refuse a known key that this kind does not take, naming the kinds that do (``label``:
+        what the message names, the key by default)."""
+        label = label or path
+        key = BY_PATH.get(path)
+        if key is None:
+            section = path.split(".")[0]
+            if not any(k.path.startswith(path + ".") for k in KEYS) or path == section and \
+                    any(applies(k, kind) for k in KEYS if k.section == section):
+                return
+            keys = [k for k in KEYS if k.path.startswith(path + ".")]
+        else:
+            keys = [key]
+        if any(applies(k, kind) for k in keys):
+            return
+        note = kinds.BY_NAME[kind].not_taken
+        if note and path.split(".")[0] in ("panel", "supports", "preload", "output"):
+            self.fail(label, note)
+        others = sorted({n for k in keys for n in takers(k)})
+        names = ", ".join(f"'{n}'" for n in others)
+        self.fail(label, f"only for kind{'s' if len(others) > 1 else ''} {names} "
+                        f"(this case is '{kind}')")
 
     def flatten(self, table, prefix, out):
         for name, value in table.items():
@@ -223,7 +265,7 @@ class Checker:
         return out
 
     def item_defaults(self, section, kind):
-        return {k.name: k.default_for(kind, self.quick) for k in KEYS
+        return {k.name: default_of(k, kind, self.quick) for k in KEYS
                 if k.per_item and k.section == section}
 
     # --- one value ----------------------------------------------------------------------------
@@ -237,20 +279,17 @@ class Checker:
                              f"{value!r}")
         if not math.isfinite(value):
             self.fail(label, f"must be a finite number, got {value}")
-        low, high = key.low, key.high
-        if low is not None and (value <= low if key.low_open else value < low):
-            self.fail(label, f"must be {'>' if key.low_open else '>='} {low:g}, got {value:g}")
-        if high is not None and value > high:
-            self.fail(label, f"must be <= {high:g}, got {value:g}")
+        rule = key.in_range(value)
+        if rule:
+            self.fail(label, f"{rule}, got {value:g}" + (f" [{key.unit}]" if key.unit else ""))
         return float(value)
 
     def _integer(self, key, value, label):
         if isinstance(value, bool) or not isinstance(value, int):
             self.fail(label, f"must be an integer, got {_kind_name(value)} {value!r}")
-        if key.low is not None and value < key.low:
-            self.fail(label, f"must be >= {key.low:g}, got {value}")
-        if key.high is not None and value > key.high:
-            self.fail(label, f"must be <= {key.high:g}, got {value}")
+        rule = key.in_range(value)
+        if rule:
+            self.fail(label, f"{rule}, got {value}")
         return value
 
     def _text(self, key, value, label):
@@ -322,39 +361,5 @@ class Checker:
 
     # --- keys that depend on each other ---------------------------------------------------------
     def cross_checks(self, case):
-        v = case.values
-        if case.kind in ("cantilever", "fence"):
-            return
-        if v["preload.mode"] in ("sag", "settle") and not v["gravity"] > 0:
-            self.fail("preload.mode", f"'{v['preload.mode']}' needs gravity > 0 "
-                                      "(or preload.mode = 'none')")
-        if case.kind == "impact" and v["preload.mode"] == "sag":
-            self.fail("preload.mode", "'sag' is a punch pre-load; an impact case takes "
-                                      "'settle' or 'none'")
-        if case.kind == "punch" and v["punch.platter"] != "cone" and \
-                v["punch.tip_radius"] is not None:
-            self.fail("punch.tip_radius", "only for punch.platter = 'cone'")
-        if case.kind == "punch" and v["punch.body"] == "mesh" and (v["punch.speed_max"] or 1) > 1:
-            self.fail("punch.speed_max", "> 1 needs punch.body = 'analytic' (the mesh platter "
-                                         "moves at a constant speed)")
-        for k, item in enumerate(case.impacts, 1):
-            label = f"impact[{k}]" if len(case.impacts) > 1 else "impact"
-            if item["block"] == "stl":
-                if not item["stl"]:
-                    self.fail(f"{label}.stl", "block 'stl' needs the STL file")
-                stl = os.path.join(os.path.dirname(self.path), item["stl"])
-                if not os.path.isfile(stl):
-                    self.fail(f"{label}.stl", f"no such file: {stl}")
-                if item["body"] != "mesh":
-                    self.fail(f"{label}.body", "a block STL is moved as a mesh: body = 'mesh'")
-                item["stl"] = os.path.abspath(stl)
-            elif item["stl"]:
-                self.fail(f"{label}.stl", "only for block = 'stl'")
-            if k > 1 and item["body"] != "analytic":
-                self.fail(f"{label}.body", "successive impacts need the analytic block")
-        names = [z["name"] for z in case.zones]
-        if len(set(names)) != len(names):
-            self.fail("output.zones", f"zone names must differ, got {names}")
-        for z in case.zones:
-            if not z["name"].replace("_", "").replace("-", "").isalnum():
-                self.fail("output.zones.name", f"letters, digits, - and _ only, got {z['name']!r}")
+        """The rules of the kind (CaseKind.check), each failing with one line naming a key."""
+        kinds.BY_NAME[case.kind].check(case, self.fail)

@@ -8,84 +8,22 @@ exist, is skipped, so an interrupted study resumes.
 """
 
 import fcntl
-import hashlib
-import json
 import os
-import shutil
 import signal
 import sys
-import threading
 import time
 import tomllib
 
-from postprocess import liggghts, report
-from postprocess.output import write_json
+from postprocess import report
 
-from . import casefile, cases, punch, schema
+from . import INPUTS, casefile, engine, kinds
+from .errors import CaseFileError, StudyError
+from .kinds.punch import PRELOAD_FREE
+from .scheduler import Interrupted, run_cases
 
-INPUTS = liggghts.INPUTS
 CASE_DIR = INPUTS / "cases"
 STUDY_DIR = INPUTS / "studies"
 DEFAULT_STUDY = "compound"
-CSV_OF_KIND = {"beam": "beam.csv", "calibration": "platter.csv", "punch": "platter.csv",
-               "impact": "block.csv"}
-
-
-def case_fingerprint(case):
-    """sha256 of a case's checked values: a changed case file (or --set) runs the case again."""
-    text = json.dumps(dict(values=case.values, impacts=case.impacts, zones=case.zones),
-                      sort_keys=True, default=str)
-    return hashlib.sha256(text.encode()).hexdigest()[:16]
-
-
-def _read_meta(case_dir):
-    """case.json of a case folder as a dict, or None when absent or unreadable."""
-    try:
-        with open(os.path.join(case_dir, "case.json"), encoding="utf-8") as fh:
-            meta = json.load(fh)
-    except (OSError, ValueError):
-        return None
-    return meta if isinstance(meta, dict) else None
-
-
-def _complete(case_dir, kind, quick, fingerprint):
-    """Finished in the requested mode from the same case values: status ok, the kind's CSV
-    present, the same --quick setting (a quick result never stands for a full case, nor the
-    other way round) and the same case fingerprint."""
-    meta = _read_meta(case_dir)
-    return (meta is not None and meta.get("status") == "ok" and
-            bool(meta.get("quick")) == bool(quick) and
-            meta.get("case_fingerprint") == fingerprint and
-            os.path.isfile(os.path.join(case_dir, CSV_OF_KIND[kind])))
-
-
-def _write_meta(case_dir, meta):
-    write_json(os.path.join(case_dir, "case.json"), meta)
-
-
-def _fresh_case_dir(case_dir):
-    """Empty the folder of a case that is to be (re)run. Only a folder WireNet wrote (it holds a
-    case.json) or an empty one is touched; anything else is the user's and stops the run."""
-    if os.path.isdir(case_dir) and os.listdir(case_dir):
-        if not os.path.isfile(os.path.join(case_dir, "case.json")):
-            raise StudyError(f"{case_dir} exists and is not a WireNet case folder (no case.json); "
-                             "move it away or choose another --out")
-        shutil.rmtree(case_dir)
-    os.makedirs(case_dir, exist_ok=True)
-
-
-class StudyError(Exception):
-    """A one-line user error of ``./wirenet run`` (exit code 2)."""
-
-
-class Interrupted(BaseException):
-    """SIGINT or SIGTERM during a study; BaseException so that no ``except Exception`` of a
-    runner swallows it."""
-
-    def __init__(self, signum):
-        super().__init__(signum)
-        self.signum = signum
-        self.name = signal.Signals(signum).name
 
 
 def _raise_interrupt(signum, frame):
@@ -174,9 +112,9 @@ def load_cases(files, quick, overrides):
     for path in files:
         try:
             loaded.append(casefile.read(path, overrides, quick))
-        except casefile.CaseFileError as exc:
+        except CaseFileError as exc:
             raise StudyError(str(exc)) from None
-    names = [u for c in loaded for u, _ in cases.runner_of(c).units()]
+    names = [u for c in loaded for u, _ in kinds.of(c).units()]
     dup = sorted({n for n in names if names.count(n) > 1})
     if dup:
         raise StudyError(f"two cases of the study share the name {dup[0]} (case folders must "
@@ -187,13 +125,13 @@ def load_cases(files, quick, overrides):
 
 def _preload_free(path):
     return any(path == p or (p.endswith("*") and path.startswith(p[:-1]))
-               for p in schema.PRELOAD_FREE)
+               for p in PRELOAD_FREE)
 
 
 def check_preload_sources(loaded):
     """punch.preload_from: the named case, when it is in the study, must be a punch that runs
     its own pre-load and differs from this one only in keys that act after it
-    (schema.PRELOAD_FREE). A source outside the study is no error: the case then pre-loads its
+    (PRELOAD_FREE). A source outside the study is no error: the case then pre-loads its
     own panel (a case run alone)."""
     by_name = {c.name: c for c in loaded}
     for case in loaded:
@@ -244,187 +182,6 @@ def default_ranks():
     return value
 
 
-class Job:
-    """One case folder of a study: what it runs, on how many ranks, and how it ended."""
-
-    def __init__(self, case, runner, name, index, number, total):
-        self.case, self.runner, self.name, self.index = case, runner, name, index
-        self.prefix = f"[case {number}/{total}] {name}"
-        self.kind = cases.record_kind(case)
-        self.fingerprint = case_fingerprint(case)
-        # an impact of a sequence starts from the net the previous one left
-        self.after = runner.units()[index - 1][0] if index > 0 else None
-        self.ranks = self.cost = 1
-        # the job of this study whose pre-load this punch starts from (punch.preload_from)
-        self.preload_source = None
-        self.thread = self.error = self.facts = None
-        self.start = self.wall = 0.0
-
-    def meta(self, quick, **extra):
-        mode = "quick" if quick else "full"
-        return dict(kind=self.kind, quick=quick, mode=mode, np=self.ranks,
-                    case_file=self.case.path, case_fingerprint=self.fingerprint,
-                    title=self.case["title"], **extra)
-
-    def work(self, out):
-        """The case, in its own thread: errors are kept for the study's thread."""
-        try:
-            with liggghts.labelled(self.name):
-                self.facts = self.runner.run(self.index, os.path.join(out, self.name), out,
-                                             self.ranks)
-        except BaseException as exc:   # noqa: B902 (handed on to the study's thread)
-            self.error = exc
-        self.wall = time.time() - self.start
-
-
-def _plan(jobs, np_):
-    """Ranks of each case. Alone, or on one core, a case takes all --np ranks (a punch splits
-    them between its run and its twin). Several cases on several cores run side by side, each
-    on as few ranks as it can use well: one, two for a punch with its twin (one each; the
-    first of the two to end gives its core back); a net of a few thousand nodes gains less from
-    a second rank than a second case does (docs/PERFORMANCE.md). Returns the number of cores
-    shared out."""
-    if np_ == 1 or len(jobs) == 1:
-        for job in jobs:
-            job.ranks, job.cost = np_, 1
-        return 1
-    for job in jobs:
-        job.ranks = job.cost = min(job.runner.width(), np_)
-    return np_
-
-
-# Relative cost of a case by kind and net, from the measured wall times of the default study
-# (docs/PERFORMANCE.md): the longest cases start first, so that the short ones fill the cores
-# at the end instead of one long case running alone.
-WEIGHT = {("punch", "compound"): 30, ("punch", "hex"): 20, ("impact", "compound"): 15,
-          ("impact", "hex"): 8, ("punch", "square"): 3, ("impact", "square"): 2}
-
-
-def _weight(job):
-    return WEIGHT.get((job.case.kind, job.case["panel.net"]), 1)
-
-
-def run_cases(loaded, out, quick, np_):
-    """Run the cases not yet complete in this mode, side by side where cores allow (_plan),
-    the longest first (WEIGHT); the folder lock is held by the caller. A case starts whenever a
-    core is free, counting the cores a running case gave back (a punch whose run or twin has
-    finished); a punch pair may then share a core with another case for a while (single-rank
-    processes: the kernel shares the core, no rank spins). A failed case stops the others
-    (marked 'interrupted', redone on the next run) and the study."""
-    units = [(case, runner, name, index) for case in loaded
-             for runner in [cases.runner_of(case)] for name, index in runner.units()]
-    jobs = []
-    for k, (case, runner, name, index) in enumerate(units, 1):
-        job = Job(case, runner, name, index, k, len(units))
-        if _complete(os.path.join(out, name), job.kind, quick, job.fingerprint):
-            print(f"{job.prefix}: complete, skipped (delete {os.path.join(out, name)} to run it "
-                  "again)", flush=True)
-        else:
-            jobs.append(job)
-    capacity = _plan(jobs, np_)
-    shared = _share_preloads(jobs)
-    liggghts.allow_new_runs()
-    pending, running = sorted(jobs, key=lambda j: -_weight(j)), []
-    try:
-        while pending or running:
-            used = sum(max(j.cost - liggghts.released_cores(j.name), 0) for j in running)
-            for job in list(pending):
-                if used >= capacity:
-                    break
-                if job.after is not None and job.after in {j.name for j in pending + running}:
-                    continue
-                if _waits_for_preload(job, pending + running):
-                    continue
-                if job.preload_source is not None:
-                    job.runner.preload_restart = _shared_restart(job, out)
-                _launch(job, out, quick)
-                pending.remove(job)
-                running.append(job)
-                used += job.cost
-            if not running:   # cannot happen: a case waits only for one that runs or waits
-                raise StudyError("internal error: no case can start")
-            running[0].thread.join(0.2)
-            for job in [j for j in running if not j.thread.is_alive()]:
-                running.remove(job)
-                liggghts.forget_released(job.name)
-                cpu = liggghts.cpu_seconds(job.name)
-                liggghts.forget_cpu(job.name)
-                if job.error is not None:
-                    pending.clear()
-                    _stop_jobs(running, out, quick)
-                    _write_meta(os.path.join(out, job.name), job.meta(
-                        quick, status="failed", error=str(job.error)))
-                    raise job.error
-                # start and end (Unix time): cases side by side overlap, so the study's
-                # elapsed time is the span of these, not the sum of the wall times
-                _write_meta(os.path.join(out, job.name), job.meta(
-                    quick, status="ok", wall_time=job.wall, cpu_time=cpu, started=job.start,
-                    finished=job.start + job.wall, **job.facts))
-                print(f"{job.prefix}: done in {job.wall:.1f} s", flush=True)
-    except Interrupted:
-        _stop_jobs(running, out, quick)
-        raise
-    finally:
-        for name in shared:       # the hand-over of a shared pre-load is no output
-            punch.SHARED_PRELOADS.pop(name, None)
-            restart = os.path.join(out, name, "run", "preload.restart")
-            if os.path.isfile(restart):
-                os.remove(restart)
-    return [name for _, _, name, _ in units]
-
-
-def _share_preloads(jobs):
-    """Link each punch whose punch.preload_from names a case that runs in this study to that
-    job, which then keeps its run/preload.restart and announces it (punch.SHARED_PRELOADS).
-    A source already complete from an earlier run left no restart: the case pre-loads its own.
-    Returns the names of the sources."""
-    by_name = {j.name: j for j in jobs}
-    for job in jobs:
-        if job.case.kind == "punch":
-            job.preload_source = by_name.get(job.case.values.get("punch.preload_from"))
-    shared = {j.preload_source.name for j in jobs if j.preload_source is not None}
-    for name in shared:
-        punch.SHARED_PRELOADS[name] = threading.Event()
-    return shared
-
-
-def _waits_for_preload(job, waiting):
-    """A case that starts from another's pre-load waits (holding no core) while that case is
-    pending or running and has not written it yet."""
-    source = job.preload_source
-    return (source is not None and source in waiting and
-            not punch.SHARED_PRELOADS[source.name].is_set())
-
-
-def _shared_restart(job, out):
-    """The source's preload.restart once the case may start; None if the source ended without
-    one (the case pre-loads its own). A short source may end before its progress scan saw the
-    line after its pre-load: its restart is kept all the same."""
-    restart = os.path.join(out, job.preload_source.name, "run", "preload.restart")
-    return restart if os.path.isfile(restart) else None
-
-
-def _launch(job, out, quick):
-    case_dir = os.path.join(out, job.name)
-    _fresh_case_dir(case_dir)
-    # 'running' until the case returns: an interrupted or failed case is never 'ok'
-    _write_meta(case_dir, job.meta(quick, status="running"))
-    side = f", {job.ranks} rank{'s' if job.ranks > 1 else ''}"
-    print(f"{job.prefix}: running ({'quick' if quick else 'full'}{side}) from "
-          f"{os.path.relpath(job.case.path)}", flush=True)
-    job.start = time.time()
-    job.thread = threading.Thread(target=job.work, args=(out,), daemon=True)
-    job.thread.start()
-
-
-def _stop_jobs(running, out, quick):
-    """Stop the LIGGGHTS runs of the running cases and mark them interrupted."""
-    liggghts.stop_all()
-    for job in running:
-        job.thread.join()
-        _write_meta(os.path.join(out, job.name), job.meta(quick, status="interrupted"))
-
-
 def run(args):
     """``./wirenet run``. Paths are made absolute at once: LIGGGHTS runs inside each case
     folder, where a relative path would point elsewhere."""
@@ -444,7 +201,7 @@ def run(args):
             print(f"claim {claim['id']}: {claim['verdict']}")
         print(f"report: {os.path.join(out, 'report.md')} (wall time {time.time() - start:.0f} s)")
     except Interrupted as exc:
-        liggghts.stop_all()
+        engine.stop_all()
         print(f"wirenet run: interrupted ({exc.name}); the unfinished case is redone on the next "
               "run", file=sys.stderr, flush=True)
         sys.exit(128 + exc.signum)

@@ -3,7 +3,8 @@ doc/case_files.md (tests/python/test_case_files.py keeps the doc equal to them).
 
 import textwrap
 
-from .schema import KEYS, PAPER, applies
+from .params import is_computed
+from .schema import KEYS, PAPER, applies, default_of, defaults_by_kind
 
 SECTION_TITLES = {
     "": "the case", "panel": "[panel] the net (wirenet-gen)", "supports": "[supports] edges",
@@ -54,23 +55,29 @@ def template(kind):
         for key in keys:
             doc = f"{key.doc}" + (f" [{key.unit}]" if key.unit else "")
             lines += [f"# {line}" for line in textwrap.wrap(doc, 94)]
-            value = key.default_for(kind)
-            if value is None:
-                lines.append(f"# {key.name} = ...   (default: {key.derived})")
+            value = default_of(key, kind)
+            if is_computed(value):
+                lines.append(f"# {key.name} = ...   (default: {value.text()})")
             else:
                 lines.append(f"{key.name} = {toml_value(value)}")
     return "\n".join(lines) + "\n"
 
 
+def _value_text(value):
+    return value.text() if is_computed(value) else toml_value(value)
+
+
 def _default_text(key):
-    if isinstance(key.default, dict):
-        text = ", ".join(f"{k}: {toml_value(v)}" for k, v in key.default.items())
-    elif key.default is None:
-        text = key.derived
+    by_kind = defaults_by_kind(key)
+    values = list(by_kind.values())
+    if key.path == "kind":
+        text = "(required)"
+    elif values and all(v == values[0] for v in values):
+        text = _value_text(values[0])
     else:
-        text = toml_value(key.default)
+        text = ", ".join(f"{k}: {_value_text(v)}" for k, v in by_kind.items())
     if key.quick is not None:
-        text += f" (--quick: {toml_value(key.quick)})"
+        text += f" (--quick: {_value_text(key.quick)})"
     return text.replace("|", "\\|")
 
 
@@ -82,6 +89,11 @@ def _type_text(key):
             "\"calibrated\""}.get(key.type, key.type)
 
 
+def kind_names():
+    from . import kinds
+    return kinds.NAMES
+
+
 def key_tables():
     """Markdown tables of every key, one per section."""
     out = []
@@ -89,11 +101,14 @@ def key_tables():
                                  key=lambda s: [k.section for k in KEYS].index(s)):
         keys = [k for k in KEYS if k.section == section]
         out += [f"### {SECTION_TITLES.get(section, section)}", "",
-                "| key | type | unit | default | only for | meaning | source |",
-                "|---|---|---|---|---|---|---|"]
+                "| key | type | unit | range | default | kinds | meaning | source |",
+                "|---|---|---|---|---|---|---|---|"]
         for k in keys:
-            out.append(f"| `{k.name}` | {_type_text(k)} | {k.unit or '-'} | {_default_text(k)} | "
-                       f"{k.kind or ''} | {k.doc.replace('|', '/')} | "
+            taken = [n for n in kind_names() if applies(k, n)]
+            out.append(f"| `{k.name}` | {_type_text(k)} | {k.unit or '-'} | "
+                       f"{k.range_text() or '-'} | {_default_text(k)} | "
+                       f"{', '.join(taken) if len(taken) < len(kind_names()) else 'all'} | "
+                       f"{k.doc.replace('|', '/')} | "
                        f"{(k.source or '-').replace(PAPER, 'paper')} |")
         out.append("")
     return "\n".join(out)

@@ -1,28 +1,33 @@
 """The model's material and contact defaults, read from their one source: the deck include
-inputs/include/materials.in (``variable NAME index VALUE`` lines). The decks use them as they
-are; Python reads the same numbers for the time-step estimate instead of keeping a copy."""
+inputs/include/materials.in (``variable NAME index VALUE   # SOURCE`` lines: the text after the
+value's ``#`` is the number's source, shown in the key tables and the report). The decks use
+the values as they are; the schema (runner/schema.py) takes them as the keys' defaults."""
 
 import re
 
-from .errors import PostprocessError
-from .liggghts import INPUTS
+from . import INPUTS
+from .errors import RunError
 
 MATERIALS_FILE = INPUTS / "include" / "materials.in"
-_LINE = re.compile(r'^variable\s+(\w+)\s+index\s+(?:"([^"]*)"|(\S+))')
+_LINE = re.compile(r'^variable\s+(\w+)\s+index\s+(?:"([^"]*)"|(\S+))\s*(?:#\s*(.*))?$')
+NO_SOURCE = "no source (inputs/include/materials.in)"
 
 
-def read_materials(path=MATERIALS_FILE):
-    """{name: value} of the index variables of a deck include; numbers as float."""
+def read_materials(path=MATERIALS_FILE, sources=None):
+    """{name: value} of the index variables of a deck include; numbers as float. ``sources``
+    (a dict) receives {name: the text after the value's '#'} (NO_SOURCE without one)."""
     values = {}
     try:
         text = path.read_text()
     except OSError as exc:
-        raise PostprocessError(f"{path}: {exc.strerror}") from None
+        raise RunError(f"{path}: {exc.strerror}") from None
     for line in text.splitlines():
         m = _LINE.match(line)
         if not m:
             continue
         raw = m.group(2) if m.group(2) is not None else m.group(3)
+        if sources is not None:
+            sources[m.group(1)] = (m.group(4) or "").strip() or NO_SOURCE
         try:
             values[m.group(1)] = float(raw)
         except ValueError:
@@ -30,7 +35,8 @@ def read_materials(path=MATERIALS_FILE):
     return values
 
 
-MATERIALS = read_materials()
+SOURCES = {}
+MATERIALS = read_materials(sources=SOURCES)
 
 
 def _curve(text):
@@ -39,11 +45,7 @@ def _curve(text):
 
 
 SW_CURVE = _curve(MATERIALS["curve"])   # ((strain, stress [Pa]), ...) of the single wire
-WIRE = {k: MATERIALS[k] for k in ("wire_d", "selvedge_d", "lambda_eps", "lambda_k", "wire_nu")}
-ROPE = {k: MATERIALS[k] for k in ("rope_d", "rope_E", "rope_nu", "shear")}
-CONTACT = {k: MATERIALS[k] for k in ("kn", "ks", "mu")}
-PAPER_BENDING = MATERIALS["bending"]    # the calibrated bending fraction of the paper
-ROPE_STRENGTH = (MATERIALS["rope_sigma_t"], MATERIALS["rope_tau_c"])   # [Pa], see materials.in
+PAPER_BENDING = MATERIALS["bending"]    # the bending fraction of the paper's best fit
 
 
 def rope_strength(materials=None):

@@ -1,4 +1,5 @@
-"""Case folders of a study directory: DIR/CASE/{zone_forces,platter,block,beam}.csv + case.json."""
+"""Case folders of a study directory as the report reads them: DIR/CASE/case.json (the record,
+postprocess/record.py) and the CSVs (zone_forces, platter, block, beam)."""
 
 import math
 import os
@@ -10,6 +11,7 @@ import numpy as np
 from .csvio import read_csv
 from .errors import PostprocessError
 from .meta import json_type, read_json_object
+from .record import OK, STATUSES, CaseRecord
 
 TABLES = {
     "zone": ("zone_forces.csv", ("time", "displacement", "family", "total_tension",
@@ -19,8 +21,8 @@ TABLES = {
     "beam": ("beam.csv", ("elements", "load", "tip_deflection", "analytic_deflection", "nrmse")),
 }
 LINE_FILES = ("deflection.csv", "beam_line.csv")
-KINDS = ("beam", "calibration", "punch", "impact", "fence")
-OK_STATUSES = ("ok", "done", "completed", "success")
+# a folder without case.json (made by hand for `postprocess report`): its kind by its tables
+KIND_OF_TABLE = (("beam", "beam"), ("block", "impact"), ("platter", "punch"))
 
 
 @dataclass
@@ -32,31 +34,25 @@ class Case:
     errors: list = field(default_factory=list)
 
     @property
+    def record(self):
+        return CaseRecord.from_json(self.meta)
+
+    @property
     def status(self):
-        """Normalised status: 'ok' unless case.json says otherwise (e.g. 'not-implemented')."""
-        raw = str(self.meta.get("status", "ok")).strip().lower()
-        raw = re.sub(r"[\s_]+", "-", raw)
-        return "ok" if raw in OK_STATUSES else raw
+        """case.json's status (postprocess/record.py); 'ok' for a folder without case.json."""
+        return str(self.meta.get("status", OK))
 
     @property
     def usable(self):
         """True when the numbers of this case may be used (status ok, no unreadable file)."""
-        return self.status == "ok" and not self.errors
+        return self.status == OK and not self.errors
 
     @property
     def kind(self):
-        meta_kind = str(self.meta.get("kind", "")).lower()
-        for kind in KINDS:
-            if meta_kind.startswith(kind[:5]) or (not meta_kind and
-                                                  self.name.lower().startswith(kind[:5])):
-                return kind
-        if "beam" in self.tables:
-            return "beam"
-        if "block" in self.tables:
-            return "impact"
-        if "platter" in self.tables:
-            return "punch"
-        return meta_kind or "unknown"
+        """case.json's kind; for a folder without one, the kind its tables show."""
+        if self.meta.get("kind"):
+            return str(self.meta["kind"])
+        return next((kind for table, kind in KIND_OF_TABLE if table in self.tables), "unknown")
 
     @property
     def bending(self):
@@ -160,6 +156,8 @@ def read_case_meta(path):
     for key in TEXT_KEYS:
         if meta.get(key) is not None and not isinstance(meta[key], str):
             raise _bad(path, key, meta[key], "text")
+    if meta.get("status") is not None and meta["status"] not in STATUSES:
+        raise _bad(path, "status", meta["status"], "one of " + ", ".join(STATUSES))
     for key in NUMBER_KEYS:
         if meta.get(key) is not None and not _is_number(meta[key]):
             raise _bad(path, key, meta[key], "a number or null")

@@ -1,4 +1,7 @@
-"""Running the project's binaries (LIGGGHTS, wirenet-gen) from Python, with progress output."""
+"""The engine: LIGGGHTS launched from Python, on one rank or under mpirun, in its own process
+group, with progress lines, interrupts and the CPU time it used; the cores a case lends back to
+the study's scheduler while part of it has ended. What is launched (the deck and its variables)
+is the kinds' business (runner/kinds/); how it is launched is this module's."""
 
 import contextlib
 import os
@@ -10,10 +13,8 @@ import threading
 import time
 from pathlib import Path
 
-from .errors import PostprocessError
-
-ROOT = Path(__file__).resolve().parents[1]
-INPUTS = ROOT / "inputs"
+from . import INPUTS, ROOT
+from .errors import RunError
 
 
 def build_dir():
@@ -23,7 +24,7 @@ def build_dir():
 def binary(name):
     path = build_dir() / "bin" / name
     if not path.is_file():
-        raise PostprocessError(f"{path}: not built (run ./wirenet setup)")
+        raise RunError(f"{path}: not built (run ./wirenet setup)")
     return path
 
 
@@ -44,16 +45,6 @@ def mpi_env():
                OMPI_MCA_rmaps_base_oversubscribe="1")
     return env
 
-
-def generate(kind, out_prefix, *options):
-    """Run wirenet-gen KIND OPTIONS --out PREFIX; return the absolute path of PREFIX.data (it is
-    handed to LIGGGHTS, which runs in another folder)."""
-    out_prefix = os.path.abspath(out_prefix)
-    cmd = [str(binary("wirenet-gen")), *kind.split(), *map(str, options), "--out", out_prefix]
-    p = subprocess.run(cmd, capture_output=True, text=True)
-    if p.returncode:
-        raise PostprocessError(f"wirenet-gen failed: {p.stderr.strip()}")
-    return f"{out_prefix}.data"
 
 
 # LIGGGHTS processes (or their mpirun) that are running now, each the leader of its own process
@@ -162,6 +153,21 @@ def _signal_group(proc, sig):
         pass
 
 
+_PR_SET_PDEATHSIG = 1    # linux/prctl.h
+
+
+def _die_with_parent():
+    """In the child before exec: SIGTERM when the runner dies, however it dies (SIGKILL
+    included), so that LIGGGHTS (or mpirun, which then stops its ranks) never computes on
+    outside the folder lock. Linux only; elsewhere a no-op."""
+    try:
+        import ctypes
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(_PR_SET_PDEATHSIG, signal.SIGTERM, 0, 0, 0)
+    except (OSError, AttributeError):
+        pass
+
+
 _NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
 
 
@@ -194,9 +200,10 @@ def run(deck, workdir, variables=None, np=1, total_steps=None, label="", dt=None
     # also reaches every rank under mpirun; the check and the start are one step under the lock
     with _LIVE_LOCK:
         if _STOPPED.is_set():
-            raise PostprocessError(f"LIGGGHTS not started in {workdir}: the study is stopping")
+            raise RunError(f"LIGGGHTS not started in {workdir}: the study is stopping")
         proc = subprocess.Popen(cmd, cwd=workdir, env=mpi_env(), stdout=subprocess.PIPE,
-                                stderr=subprocess.STDOUT, text=True, start_new_session=True)
+                                stderr=subprocess.STDOUT, text=True, start_new_session=True,
+                                preexec_fn=_die_with_parent)
         _LIVE.add(proc)
     try:
         output = _follow(proc, workdir, total_steps, label, dt, phase_marker, then, marker_seen)
@@ -210,16 +217,27 @@ def run(deck, workdir, variables=None, np=1, total_steps=None, label="", dt=None
     errors = [l for l in (log + output).splitlines() if "ERROR" in l]
     if proc.returncode or errors:
         msg = errors[0] if errors else (output.strip().splitlines() or ["no output"])[-1]
-        raise PostprocessError(f"LIGGGHTS failed in {workdir}: {msg}")
+        raise RunError(f"LIGGGHTS failed in {workdir}: {msg}")
     # LIGGGHTS ends a run early, writes a restart and exits 0 on SIGTERM from outside: a deck
     # that prints END_MARKER as its last line must have reached it
     if END_MARKER in deck.read_text(errors="replace") and END_MARKER not in log:
-        raise PostprocessError(f"LIGGGHTS stopped before the end of {deck.name} in {workdir} "
+        raise RunError(f"LIGGGHTS stopped before the end of {deck.name} in {workdir} "
                                f"(killed from outside?): the case is not complete")
     return time.time() - start
 
 
 END_MARKER = "wirenet: end of deck"
+
+
+def log_line(workdir, marker):
+    """The first line of a run's log.lammps that starts with ``marker`` (an event the deck
+    printed), or None."""
+    path = Path(workdir) / "log.lammps"
+    try:
+        with open(path, errors="replace") as fh:
+            return next((line for line in fh if line.startswith(marker)), None)
+    except OSError as exc:
+        raise RunError(f"{path}: {exc.strerror or exc}") from None
 
 
 def _follow(proc, workdir, total_steps, label, dt, phase_marker, then=None, marker_seen=None):

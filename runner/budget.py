@@ -1,0 +1,55 @@
+"""Energy and momentum budgets of a dynamic case (impact, fence). Each term is measured in
+LIGGGHTS by its own mechanism (a fix's tally, a compute); this module only adds them up, from
+the deck's table read by column name.
+
+A kind declares its budget as a tuple of Terms: what each is, which columns hold it, and
+whether it is stored energy (counted as it stands: kinetic, elastic) or an amount since the
+first row (potential energies as changes, dissipations as positive amounts). The sum of the
+terms must stay at its first value; the closure error is the departure relative to it.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Term:
+    name: str            # energy.csv column
+    columns: tuple       # the deck table's columns whose sum it is
+    meaning: str         # what it is, for the docs and the report
+    sign: float = 1.0    # -1 for the work of a force on the system (minus it is dissipated)
+    stored: bool = False # counted as it stands (else as its change since the first row)
+    dissipative: bool = True   # a mechanism that takes energy out for good (the report's split)
+
+
+def terms_of(table, terms):
+    """{term name: series} of a budget."""
+    out = {}
+    for term in terms:
+        series = None
+        for column in term.columns:
+            value = table[column] if term.stored else table[column] - table[column][0]
+            series = value if series is None else series + value
+        out[term.name] = -series if term.sign < 0 else series
+    return out
+
+
+def energy_budget(table, terms):
+    """Per row: every term (terms_of), their sum, the initial energy E0 (the sum at the first
+    row) and the closure error (sum - E0) / E0."""
+    values = terms_of(table, terms)
+    total = sum(values[t.name] for t in terms)
+    e0 = float(total[0])
+    return values, total, e0, (total - e0) / e0
+
+
+def momentum_gap(dp, *impulses):
+    """The change of momentum minus the sum of the impulses of the forces from outside (rows x
+    3)."""
+    return dp - sum(impulses)
+
+
+def cumulative(means, window):
+    """The impulse of a force given as window means (rows x 3) over windows of ``window`` s."""
+    return np.cumsum(means * window[:, None], axis=0)

@@ -1,0 +1,602 @@
+"""Fence impact cases in the form of EAD 340059-00-0106 (doc/fence.md): a `wirenet-gen fence`
+(net modules between hinged posts, support and upslope ropes with brakes, the net on shackles)
+settles under its weight, then the guideline's block (the truncated cube, density about
+2600 kg/m3) hits the middle of the middle module against the fence normal.
+Deck: inputs/fence.in (include/fence_impact.in). Results, each from its own mechanism:
+
+- braking distance (the block's largest travel along the normal after first touch) and the
+  residual height of the middle module at rest (the least vertical distance between the top
+  and bottom support ropes there), against the nominal height;
+- the window-mean reaction of every anchor and post base as a time series and its peak;
+- the peak tension of every rope family, the elongation of every brake;
+- the energy budget (BUDGET) and its closure; the bonds' share split by component (net, ropes,
+  brakes, posts: elastic, plastic, released, bond damping);
+- the momentum balance (supports, ground, gravity, damping impulses);
+- ruptures by family.
+"""
+
+import math
+import os
+import re
+import time
+
+import numpy as np
+
+from postprocess import dumps
+from postprocess.csvio import read_csv, read_deck_table, write_csv
+from postprocess.datafile import read_data
+from postprocess.errors import PostprocessError, at
+from postprocess.meta import read_json
+
+from .. import INPUTS, budget, engine, netoutputs
+from ..budget import Term
+from ..errors import RunError
+from ..generator import generate
+from ..materials import rope_strength_keyword
+from ..panel import generator_options, node_masses
+from ..params import Key
+from .base import CaseKind
+from .impact import Block
+from .punch import bending_of
+
+EAD = "EAD 340059-00-0106"
+ALPHA_RELAX = 0.7        # local damping while the fence settles under its weight (before the budget)
+# After an impact the block and the fence come to rest with the settling's damping, with a
+# viscous part (-C m v on every node): local damping acts on the unbalanced force only and cannot
+# stop parts that move steadily under balanced forces (upslope ropes creeping while their brakes
+# slide at the plateau kept 110 J in the compound fence for the whole 1 s). 10 1/s damps the
+# fence's slow sway (periods about 1 s) at about 0.8 of critical
+REST_VISCOUS = 10.0
+REST_KE = 1e-5           # the rest ends below this fraction of the block's energy (5 J at 500 kJ)
+# ... or once the middle module's support ropes are still: the deck's probe of the residual
+# height has stayed within REST_STILL over REST_WINDOW (the height is read to the centimetre)
+REST_STILL = 1e-3        # m
+REST_WINDOW = 0.1        # s
+DT_SAFETY = 0.5          # of the smaller of the bond style's estimate and the contact limit
+GAP = 0.005              # block to the foremost net node at release [m]
+TABLE = "fence.csv"      # the deck's table: names in its header (include/fence_impact.in)
+ESTIMATE = re.compile(r"stable time step estimate ([0-9.eE+-]+) s")
+
+
+def _fence(name, type_, default, unit, doc, source, **kw):
+    return Key(f"fence.{name}", type_, default, unit, doc, source, **kw)
+
+
+KEYS = (
+    _fence("modules", "integer", 3, "", "functional modules (one net panel between two posts "
+           "each)", EAD + " (three modules)", low=1, high=20),
+    _fence("spacing", "number", 10.0, "m", "post spacing", EAD + " (typical)", low=1.0,
+           high=30.0, quick=4.0),
+    _fence("height", "number", 5.0, "m", "post height (nominal height of the fence)",
+           "issue #18", low=0.5, high=15.0, quick=2.0),
+    _fence("post_tilt", "number", 10.0, "deg", "posts, net and support ropes lean downslope "
+           "about the ground line (a vertical hinged post is an inverted pendulum)",
+           "doc/wirenet-gen.md", low=0.0, high=40.0),
+    _fence("head_guides", "choice", "clamp", "", "top rope at the post heads: clamp (fixed to "
+           "the head) or slide (through a guide; the posts sway)", "doc/wirenet-gen.md",
+           choices=("clamp", "slide")),
+    _fence("block_mass", "number", 1600.0, "kg", "block mass (1600 kg at 25 m/s: 500 kJ)", EAD,
+           low=1.0, high=1e5, quick=100.0),
+    _fence("block_side", "number", 0.865, "m", "side of the truncated cube (corner cut side/3; "
+           "0.865 m: 1600 kg at 2600 kg/m3)", EAD, low=0.05, high=5.0, quick=0.35),
+    _fence("speed", "number", 25.0, "m/s", "block speed against the fence normal, at the middle "
+           "of the middle module", EAD + " (>= 25 m/s)", low=0.1, high=100.0, quick=5.0),
+    _fence("duration", "number", 0.8, "s", "simulated time after release", "doc/fence.md",
+           low=0.0, low_open=True, high=20.0, quick=0.15),
+    _fence("settle_time", "number", 1.0, "s", "settling under gravity (damped) before the block "
+           "is released", "doc/fence.md", low=0.0, low_open=True, high=20.0, quick=0.3),
+    _fence("rest_time", "number", 1.0, "s", "after each impact, the block and the fence come "
+           "to rest with the settling's damping (the guideline measures the residual height "
+           f"then): at most this long, until their kinetic energy is below {REST_KE:g} of the "
+           f"block's or the middle module's support ropes have moved less than "
+           f"{REST_STILL * 1e3:g} mm in {REST_WINDOW:g} s; 0: no rest, the residual height at "
+           "the impact's end", "doc/fence.md", low=0.0, high=20.0, quick=0.1),
+    _fence("impacts", "integer", 1, "", "1, or 2: the guideline's SEL test, a second block (the "
+           "same one) on the unrepaired fence after the first block is taken away and the fence "
+           "has come to rest", EAD + " (SEL)", low=1, high=2, var="impacts"),
+    _fence("dt", "number", 0.0, "s", "time step; 0: half the smaller of the bond style's stable "
+           "estimate and the block contact's limit", "doc/fence.md", low=0.0, high=1e-3),
+    _fence("row_time", "number", 2e-3, "s", "time between rows of fence.csv and the CSVs made "
+           "from it", "WireNet (runner/kinds/fence.py)", low=1e-6, high=1.0),
+)
+
+# The energy budget of a fence impact: each term from its own mechanism (include/fence_impact.in)
+BUDGET = (
+    Term("ke_block", ("ke_block",), "kinetic energy of the block", stored=True, dissipative=False),
+    Term("ke_net", ("ke_net",), "kinetic energy of the fence", stored=True, dissipative=False),
+    Term("pe_block", ("pe_block",), "gravity potential energy of the block", dissipative=False),
+    Term("pe_net", ("pe_net",), "gravity potential energy of the fence", dissipative=False),
+    Term("e_elastic", ("e_elastic",), "elastic energy of the bonds (wires, brakes, ropes, posts)",
+         stored=True, dissipative=False),
+    Term("e_shackle", ("e_shackle",), "spring energy of the shackles", stored=True,
+         dissipative=False),
+    Term("w_plastic", ("w_plastic",), "plastic work of wires and brakes (fix wirenet/bonds)"),
+    Term("e_released", ("e_released",), "elastic energy released at ruptures"),
+    Term("damping", ("w_damping",), "work of the local damping", sign=-1),
+    Term("bond_damping", ("w_bond_damping",), "energy dissipated by bond damping"),
+    Term("contact", ("w_contact_block", "w_contact_net"), "work of the block's contacts",
+         sign=-1),
+    Term("contact_layers", ("w_contact_pair",), "work of the node-node contacts", sign=-1),
+    Term("ground", ("w_ground",), "work of the ground's contacts on the nodes", sign=-1),
+    Term("friction", ("w_friction",), "shackle friction (fix wirenet/shackle)"),
+    Term("shackle_damping", ("w_shackle_damping",), "shackle damping"),
+)
+# the fence's parts by family (wirenet-gen fence, doc/file_formats.md) and its components for the
+# energy per component (every other bond type is the net's)
+PART_FAMILIES = ("support_rope", "brake", "upslope", "upslope_brake", "post")
+COMPONENT_FAMILIES = {"ropes": ("support_rope", "upslope"), "brakes": ("brake", "upslope_brake"),
+                      "posts": ("post",)}
+# the columns of bond_types.txt (fix ave/time mode vector of fix wirenet/bonds' array): per bond
+# type, its bonds' elastic energy, energy released at ruptures, plastic work, bond damping (J)
+BOND_TALLIES = ("elastic", "released", "plastic", "bond_damping")
+
+
+def part_types(meta):
+    """{family: bond types} of the fence's parts, from the generator's JSON."""
+    types = {f: [] for f in PART_FAMILIES}
+    for t, name in meta["bond_types"].items():
+        if name in types:
+            types[name].append(int(t))
+    return {f: tuple(sorted(v)) for f, v in types.items()}
+
+
+def component_types(meta, ntypes):
+    """{component: bond types} of a fence with ntypes bond types."""
+    parts_of = part_types(meta)
+    parts = {c: tuple(t for f in families for t in parts_of[f])
+             for c, families in COMPONENT_FAMILIES.items()}
+    taken = {t for types in parts.values() for t in types}
+    return {"net": tuple(t for t in range(1, ntypes + 1) if t not in taken), **parts}
+
+
+def middle_module(meta):
+    """Where the residual height is measured: the middle module's x range (between its posts)
+    and the height that splits the top from the bottom support rope as generated."""
+    fence_ = meta["fence"]
+    mid = fence_["post_x"][fence_["modules"] // 2:fence_["modules"] // 2 + 2]
+    return min(mid), max(mid), 0.5 * float(fence_["height"])
+
+
+def rest_probe(meta, dt, every):
+    """The deck's variables of the rest's stillness probe (inputs/fence.in): the middle
+    module, the window in steps (whole rows of `every`)."""
+    x0, x1, zsplit = middle_module(meta)
+    return dict(rest_still=repr(REST_STILL), rest_x0=repr(x0), rest_x1=repr(x1),
+                rest_zsplit=repr(zsplit),
+                rest_window=int(math.ceil(REST_WINDOW / dt / every)) * every)
+
+
+def block_turn(tilt_deg):
+    """Unit quaternion turning the block's z axis onto the fence normal (0, cos t, sin t): a
+    face towards the fence."""
+    turn = math.radians(tilt_deg) - math.pi / 2
+    return (math.cos(turn / 2), math.sin(turn / 2), 0.0, 0.0)
+
+
+class Setup:
+    """Everything a fence run needs, from the checked case; variables() gives the deck's -var
+    values."""
+
+    def __init__(self, kind, workdir, bending, np_=1):
+        c = kind.case
+        self.kind, self.case, self.workdir, self.bending = kind, c, workdir, bending
+        os.makedirs(workdir, exist_ok=True)
+        self.g = c["gravity"]
+        self.mass, self.side, self.speed = c["fence.block_mass"], c["fence.block_side"], \
+            c["fence.speed"]
+        self.impacts = c["fence.impacts"]
+        net = c["panel.net"]
+        prefix = os.path.join(workdir, "fence")
+        self.data_path = generate(
+            "fence", prefix, "--modules", c["fence.modules"], "--spacing", c["fence.spacing"],
+            "--height", c["fence.height"], "--net", net, "--post-tilt", c["fence.post_tilt"],
+            "--head-guides", c["fence.head_guides"], *generator_options(c, "compound"))
+        self.json_path, self.shackles = prefix + ".json", prefix + ".shackles"
+        self.meta = read_json(self.json_path)
+        self.layers = 2 if net == "compound" else 1
+        # the impacts' block, turned as released (the frames draw its STL from that pose)
+        self.block = Block(workdir, self.mass, self.side,
+                           block_turn(self.meta["fence"]["post_tilt_deg"]))
+        self.block_path, self.quat = self.block.path, self.block.quat
+        data = read_data(self.data_path)
+        masses = node_masses(data)
+        self.fence_mass = float(np.sum(masses))
+        # the block's contact on the net's nodes (the hex and square meshes' atom types)
+        net_types = [int(t) for t, role in self.meta["atom_types"].items()
+                     if role.startswith(("hex_", "square_"))]
+        self.node_r = float(np.max(data.atoms[np.isin(data.atoms[:, 1].astype(int), net_types),
+                                              5]) / 2)
+        self.dt_bonds = self._bond_estimate(np_)
+        # the block's contact (kn, ks) on the lightest node: omega^2 = (kn + 2.5 ks) / m
+        w2 = (c["contact.kn"] + 2.5 * c["contact.ks"]) / float(np.min(masses))
+        if self.layers > 1:
+            w2 *= 2.0
+        self.dt_contact = 2.0 / math.sqrt(w2)
+        self.dt_stable = min(self.dt_bonds, self.dt_contact)
+        self.dt = c["fence.dt"] or DT_SAFETY * self.dt_stable
+        if self.dt > self.dt_stable:
+            raise RunError(f"fence.dt = {self.dt:g} s exceeds the stable step "
+                           f"{self.dt_stable:g} s (bonds {self.dt_bonds:g} s, contact "
+                           f"{self.dt_contact:g} s)")
+        self.duration, self.settle_time = c["fence.duration"], c["fence.settle_time"]
+        self.steps = int(math.ceil(self.duration / self.dt))
+        self.every = max(int(round(c["fence.row_time"] / self.dt)), 1)
+        self.relax_steps = int(math.ceil(self.settle_time / self.dt / self.every)) * self.every
+        self.rest_time = c["fence.rest_time"]
+        self.rest_steps = int(math.ceil(self.rest_time / self.dt / self.every)) * self.every
+        self.frame_every = max(int(math.ceil(self.steps / int(c["output.frames"]))), 1)
+
+    @property
+    def energy(self):
+        return 0.5 * self.mass * self.speed ** 2
+
+    def _base_variables(self):
+        section = self.meta["posts"]["section"]
+        ropes = self.meta["ropes"]
+        v = dict(self.kind.key_variables(), data=os.path.abspath(self.data_path),
+                 shackles=os.path.abspath(self.shackles),
+                 support_d=repr(ropes["support"]["diameter"]),
+                 upslope_d=repr(ropes["upslope"]["diameter"]), post_A=repr(section["A"]),
+                 post_Iy=repr(section["Iy"]), post_Iz=repr(section["Iz"]),
+                 post_J=repr(section["J"]), ghost=repr(2.5 * self.meta["max_bond_length"]),
+                 layers=self.layers, bending=repr(self.bending), out=".")
+        if self.case["materials.rope_strength"]:
+            v["rope_strength"] = rope_strength_keyword(True, self.kind.material_values())
+        return v
+
+    def _bond_estimate(self, np_):
+        """The bond style's own stable-step estimate (bond_style wirenet prints it at setup),
+        from a run of no steps: one formula, in C++."""
+        probe = os.path.join(self.workdir, "probe")
+        engine.run(INPUTS / "fence.in", probe,
+                   dict(self._base_variables(), dt=1e-9, relax_steps=0, steps=0), np=np_,
+                   label="fence: stable step")
+        found = ESTIMATE.findall(open(os.path.join(probe, "log.lammps")).read())
+        if not found:
+            raise RunError(f"{probe}/log.lammps: no stable time step estimate")
+        return float(found[0])
+
+    def variables(self):
+        tx, ty, tz = self.meta["impact_target"]
+        nx, ny, nz = self.meta["normal"]
+        v = dict(self._base_variables(), **self.block.inertia_variables(), dt=repr(self.dt),
+                 relax_steps=self.relax_steps, steps=self.steps, every=self.every,
+                 dump_every=self.every, frame_every=self.frame_every, alpha_relax=ALPHA_RELAX,
+                 target_x=repr(tx), target_y=repr(ty), target_z=repr(tz), normal_x=repr(nx),
+                 normal_y=repr(ny), normal_z=repr(nz), speed=repr(self.speed),
+                 block_side=repr(self.side), block_cut=repr(self.block.cut),
+                 quat=" ".join(map(repr, self.quat)),
+                 block_half=repr(self.side / 2), gap=GAP, foot_r=repr(max(1.0, self.side)),
+                 node_r=repr(self.node_r), rest_steps=self.rest_steps,
+                 rest_chunk=self.every, rest_ke=repr(REST_KE * self.energy),
+                 rest_viscous=repr(REST_VISCOUS),
+                 **rest_probe(self.meta, self.dt, self.every))
+        return v
+
+
+# ---------------------------------------------------------------------------------------------
+# reading the run
+
+def read_table(workdir):
+    """fence.csv by its column names (the budget's, the block's, the momentum's)."""
+    names = {c for t in BUDGET for c in t.columns} | {
+        "step", "time", "x", "y", "z", "vx", "vy", "vz", "force", "px_net", "py_net", "pz_net",
+        "jx_damp", "jy_damp", "jz_damp", "anchors_x", "anchors_y", "anchors_z", "bases_x",
+        "bases_y", "bases_z", "ground_x", "ground_y", "ground_z"}
+    return read_deck_table(os.path.join(workdir, TABLE), sorted(names))
+
+
+def read_vector_rows(path, ncols):
+    """A fix ave/time mode vector file ('step rows' lines, each followed by that many 'index
+    values' rows): (steps, values[row, index, ncols])."""
+    try:
+        lines = [l.split() for l in open(path) if l.strip() and not l.startswith("#")]
+    except OSError as exc:
+        raise PostprocessError(f"{path}: {exc.strerror or exc}") from None
+    steps, blocks, k = [], [], 0
+    while k < len(lines):
+        head = lines[k]
+        try:
+            step, n = int(head[0]), int(head[1])
+            if len(head) != 2:
+                raise ValueError
+            block = np.array([[float(v) for v in row[1:]] for row in lines[k + 1:k + 1 + n]])
+        except (ValueError, IndexError):
+            raise at(path, k + 1, "expected a 'step rows' line and its rows of numbers") from None
+        if block.shape != (n, ncols) or not np.all(np.isfinite(block)):
+            raise at(path, k + 1, f"expected {n} rows of {ncols} finite values")
+        steps.append(step)
+        blocks.append(block)
+        k += n + 1
+    if not blocks:
+        raise PostprocessError(f"{path}: no rows")
+    return np.array(steps), np.array(blocks)
+
+
+def read_support_rows(path):
+    """anchors.txt / bases.txt (fix ave/time mode vector of fix wirenet/hold ... each: id and
+    the window-mean reaction): (steps, ids, forces[row, atom, xyz]) [N]."""
+    steps, rows = read_vector_rows(path, 4)
+    return steps, rows[0, :, 0].astype(int), rows[:, :, 1:]
+
+
+def read_bond_types(workdir):
+    """bond_types.txt: (steps, {tally: [row, type - 1]}) of BOND_TALLIES."""
+    steps, rows = read_vector_rows(os.path.join(workdir, "bond_types.txt"), len(BOND_TALLIES))
+    return steps, rows
+
+
+def component_energies(tallies, components):
+    """{component: {tally: series}} for components {name: bond types}: elastic energy as it is,
+    the dissipations (released, plastic, bond damping) from the first row on."""
+    out = {}
+    for name, types in components.items():
+        cols = tallies[:, [t - 1 for t in types], :].sum(axis=1)
+        out[name] = {k: cols[:, j] - (cols[0, j] if k != "elastic" else 0.0)
+                     for j, k in enumerate(BOND_TALLIES)}
+    return out
+
+
+def momentum_balance(t, block_mass, fence_mass, g):
+    """Change of the momentum of block and fence against the impulses of the support reactions
+    and of the ground (window means x window length), of gravity and of the damping; the gap
+    relative to the block's initial momentum, per row and component."""
+    p_block = block_mass * np.column_stack([t["vx"], t["vy"], t["vz"]])
+    p_net = np.column_stack([t["px_net"], t["py_net"], t["pz_net"]])
+    dp = (p_block - p_block[0]) + (p_net - p_net[0])
+    reactions = np.column_stack([t["anchors_x"] + t["bases_x"], t["anchors_y"] + t["bases_y"],
+                                 t["anchors_z"] + t["bases_z"]])
+    window = np.r_[0.0, np.diff(t["time"])]
+    j_react = budget.cumulative(reactions, window)
+    j_grav = np.zeros_like(dp)
+    j_grav[:, 2] = -(block_mass + fence_mass) * g * (t["time"] - t["time"][0])
+    j_damp = np.column_stack([t["jx_damp"], t["jy_damp"], t["jz_damp"]])
+    # the ground pushes the nodes with minus the nodes' force on it
+    j_ground = -budget.cumulative(np.column_stack([t["ground_x"], t["ground_y"], t["ground_z"]]),
+                                  window)
+    gap = budget.momentum_gap(dp, j_react, j_grav, j_ground, j_damp - j_damp[0])
+    return gap / float(np.linalg.norm(p_block[0]))
+
+
+def read_parts(path):
+    """parts.dump (dump local of compute wirenet/local over ropes, brakes and posts): per frame
+    (step, {column: values}) by the compute's column names."""
+    frames = []
+    for f in dumps.iter_frames(path):
+        mapping = dumps.bond_column_map(f)
+        frames.append((f.step, {name: f.data[:, k] for name, k in mapping.items()}))
+    if not frames:
+        raise PostprocessError(f"{path}: no frames")
+    return frames
+
+
+def residual_height(setup, nodes_frame, data):
+    """Least vertical distance between the top and the bottom support rope over the middle
+    module (its posts' x range), in the frame (ids, positions); the ropes' nodes are those of
+    the generator's role 'rope', top or bottom by their height in the data file."""
+    x0, x1, zsplit = middle_module(setup.meta)
+    rope_type = rope_node_type(setup.meta)
+    rope = data.atoms[data.atoms[:, 1] == rope_type]
+    top_ids = set(rope[rope[:, 4] > zsplit, 0].astype(int))
+    ids, pos = nodes_frame
+    ropes = np.isin(ids, rope[:, 0].astype(int))
+    inside = ropes & (pos[:, 0] >= x0) & (pos[:, 0] <= x1)
+    top = inside & np.isin(ids, list(top_ids))
+    bottom = inside & ~np.isin(ids, list(top_ids))
+    if not top.any() or not bottom.any():
+        raise RunError("fence: no support rope nodes in the middle module")
+    order = np.argsort(pos[bottom, 0])
+    zb = np.interp(pos[top, 0], pos[bottom, 0][order], pos[bottom, 2][order])
+    return float(np.min(pos[top, 2] - zb))
+
+
+def rope_node_type(meta):
+    """The atom type of the support ropes' nodes (the generator's JSON atom_types)."""
+    for t, role in meta["atom_types"].items():
+        if role == "support_rope":
+            return int(t)
+    raise RunError("fence: the generator's JSON names no atom type 'support_rope'")
+
+
+def read_rest(workdir):
+    """The rest after an impact (include/fence_rest.in), or None without one: the state at rest
+    (rest.dump: ids, positions) and rest.csv by its column names (time, ke, gap)."""
+    dump = os.path.join(workdir, "rest.dump")
+    if not os.path.exists(dump):
+        return None
+    rows = read_csv(os.path.join(workdir, "rest.csv"), required=("time", "ke", "gap"))
+    if not len(rows["time"]):
+        raise PostprocessError(f"{workdir}/rest.csv: no rows")
+    return dict(nodes=last_nodes(dump), time=float(rows["time"][-1]), ke=float(rows["ke"][-1]),
+                times=rows["time"], gaps=rows["gap"])
+
+
+def rest_facts(rest, impact_end, setup):
+    """case.json's rest: how long it took after the impact's last row, the kinetic energy at
+    its end against the limit, and how far the probe of the residual height moved over its
+    last REST_WINDOW (still: less than REST_STILL, as the deck ends the rest on)."""
+    last = rest["times"] >= rest["times"][-1] - REST_WINDOW * (1 - 1e-9)
+    moved = float(np.ptp(rest["gaps"][last]))
+    full = rest["times"][-1] - impact_end >= REST_WINDOW * (1 - 1e-3)
+    return dict(time=rest["time"] - impact_end, kinetic_energy=rest["ke"],
+                limit=REST_KE * setup.energy, reached=bool(rest["ke"] < REST_KE * setup.energy),
+                probe_moved=moved, still=bool(full and moved < REST_STILL))
+
+
+def last_nodes(path, up_to=None):
+    """(ids, positions) of the last frame of a custom dump (id type x y z), or of the last one
+    at or before step up_to (the frames go on through the rest after the impact)."""
+    frame = None
+    for candidate in dumps.iter_frames(path):
+        if up_to is not None and candidate.step > up_to:
+            break
+        frame = candidate
+    if frame is None:
+        raise PostprocessError(f"{path}: no frames" +
+                               (f" up to step {up_to}" if up_to is not None else ""))
+    return frame.integers(frame.names.index("id")), np.column_stack(
+        [frame.column(c) for c in ("x", "y", "z")])
+
+
+# ---------------------------------------------------------------------------------------------
+# the kind
+
+class Fence(CaseKind):
+    name = "fence"
+    summary = "a block impact on a whole fence (" + EAD + ")"
+    deck = "fence.in"
+    keys = KEYS
+    takes = ("title", "gravity", "panel.net", "panel.placement", "panel.selvedge",
+             "panel.hex_node_radius", "panel.hex_node_mass", "panel.square_node_radius",
+             "panel.rope_mass", "materials.*", "contact.kn", "contact.ks", "contact.mu",
+             "damping.*", "fence.*", "output.frames")
+    # a penalty 100x softer than the paper's 1e9 N/m, so that the block's contact does not set
+    # the step on 4 g hex nodes: a wire's breaking force (~3 kN) overlaps it by ~0.3 mm against
+    # node radii of 5 mm (doc/fence.md); local damping 0.1 during the impact (doc/fence.md)
+    defaults = {"panel.net": "compound", "contact.kn": 1e7, "contact.ks": 1e6,
+                "damping.local": 0.1}
+    not_taken = ("not used by a fence case (module size: fence.spacing and fence.height; "
+                 "supports: its anchors and posts; it settles for fence.settle_time)")
+    finished_file = "block.csv"
+    width = 2
+
+    def run(self, index, ctx):
+        c = self.case
+        bending, source = bending_of(c, ctx.study_dir)
+        setup = Setup(self, os.path.join(ctx.case_dir, "setup"), bending, np_=ctx.ranks)
+        workdir = os.path.join(ctx.case_dir, "run")
+        start = time.time()
+        wall = engine.run(INPUTS / "fence.in", workdir, setup.variables(), np=ctx.ranks,
+                          total_steps=setup.steps, label="fence", dt=setup.dt,
+                          phase_marker="impact: block released",
+                          then=("rest", setup.rest_steps) if setup.rest_steps else None)
+        facts = self.write_outputs(setup, ctx.case_dir, workdir, read_table(workdir))
+        if setup.impacts == 2:
+            second = os.path.join(workdir, "impact_2")
+            second_dir = os.path.join(ctx.case_dir, "impact_2")
+            os.makedirs(second_dir, exist_ok=True)
+            facts["second_impact"] = self.write_outputs(setup, second_dir, second,
+                                                        read_table(second))
+        facts.update(fence=setup.meta["fence"], fence_mass=setup.fence_mass,
+                     atoms=int(setup.meta["counts"]["atoms"]), bending_source=source,
+                     block=dict(mass=setup.mass, side=setup.side, speed=setup.speed,
+                                quat=list(setup.quat), energy=setup.energy),
+                     gravity=setup.g, damping=c["damping.local"], bond_damping=c["damping.bond"],
+                     dt=setup.dt, dt_stable_bonds=setup.dt_bonds,
+                     dt_stable_contact=setup.dt_contact, steps=setup.steps,
+                     duration=setup.duration, settle_time=setup.settle_time,
+                     rest_time=setup.rest_time, impacts=setup.impacts,
+                     relax_steps=setup.relax_steps, run_wall_time=wall,
+                     post_wall_time=time.time() - start - wall)
+        return facts
+
+    def write_outputs(self, setup, case_dir, workdir, t):
+        """block.csv, energy.csv, components.csv, supports.csv, ropes.csv, brakes.csv,
+        ruptures.csv and the ParaView series; returns the facts for case.json."""
+        time_ = t["time"] - t["time"][0]
+        n = np.asarray(setup.meta["normal"], float)
+        pos = np.column_stack([t["x"], t["y"], t["z"]])
+        travel = (pos[0] - pos) @ n
+        write_csv(os.path.join(case_dir, "block.csv"),
+                  ("time", "x", "y", "z", "vx", "vy", "vz", "travel", "force"),
+                  zip(time_, t["x"], t["y"], t["z"], t["vx"], t["vy"], t["vz"], travel,
+                      t["force"]))
+        terms, total, e0, error = budget.energy_budget(t, BUDGET)
+        names = tuple(term.name for term in BUDGET)
+        write_csv(os.path.join(case_dir, "energy.csv"), ("time",) + names + ("total", "closure_error"),
+                  zip(time_, *(terms[k] for k in names), total, error))
+        gap = momentum_balance(t, setup.mass, setup.fence_mass, setup.g)
+        type_steps, tallies = read_bond_types(workdir)
+        components = component_energies(tallies, component_types(setup.meta, tallies.shape[1]))
+        write_csv(os.path.join(case_dir, "components.csv"),
+                  ("time",) + tuple(f"{c}_{k}" for c in components for k in BOND_TALLIES),
+                  zip((type_steps - type_steps[0]) * setup.dt,
+                      *(components[c][k] for c in components for k in BOND_TALLIES)))
+
+        names_of = {a["id"]: a["name"] for a in setup.meta["anchors"]}
+        names_of.update({b: f"post_base_{k}" for k, b in enumerate(setup.meta["post_bases"])})
+        supports, peaks = [], {}
+        for file in ("anchors.txt", "bases.txt"):
+            steps, ids, forces = read_support_rows(os.path.join(workdir, file))
+            magnitude = np.linalg.norm(forces, axis=2)
+            for k, atom in enumerate(ids):
+                j = int(np.argmax(magnitude[:, k]))
+                peaks[names_of[int(atom)]] = dict(atom=int(atom), peak=float(magnitude[j, k]),
+                                                  time=float((steps[j] - steps[0]) * setup.dt),
+                                                  at_peak=forces[j, k].tolist())
+            supports.append((steps, ids, magnitude))
+        steps = supports[0][0]
+        write_csv(os.path.join(case_dir, "supports.csv"),
+                  ("time",) + tuple(names_of[int(a)] for _, ids, _ in supports for a in ids),
+                  zip((steps - steps[0]) * setup.dt, *(m[:, k] for _, ids, m in supports
+                                                        for k in range(len(ids)))))
+
+        frames = read_parts(os.path.join(workdir, "parts.dump"))
+        family_types = part_types(setup.meta)
+        peaks_of = {}
+        for family, types in family_types.items():
+            peaks_of[family] = [float(np.max(np.abs(cols["tension"][np.isin(cols["type"], types)]),
+                                             initial=0.0)) for _, cols in frames]
+        part_times = [(s - frames[0][0]) * setup.dt for s, _ in frames]
+        write_csv(os.path.join(case_dir, "ropes.csv"), ("time",) + tuple(peaks_of),
+                  zip(part_times, *peaks_of.values()))
+        brake_types = family_types["brake"] + family_types["upslope_brake"]
+        elongation = []
+        for _, cols in frames:
+            b = np.isin(cols["type"], brake_types)
+            elongation.append(dict(zip((f"{int(a)}-{int(c)}" for a, c in
+                                        zip(cols["atom1"][b], cols["atom2"][b])),
+                                       cols["length"][b] - cols["length0"][b])))
+        brake_keys = list(elongation[0])
+        write_csv(os.path.join(case_dir, "brakes.csv"), ("time",) + tuple(brake_keys),
+                  zip(part_times, *([e.get(k, math.nan) for e in elongation]
+                                    for k in brake_keys)))
+
+        # the net's families from the JSON, the fence parts' as the deck names them (the JSON
+        # calls a support rope "rope", as the square mesh's strand rope)
+        family_of = {int(k): v for k, v in setup.meta["bond_families"].items()}
+        family_of.update({t: family for family, types in family_types.items() for t in types})
+        ruptures = netoutputs.ruptures(os.path.join(workdir, "ruptures.dump"), setup.dt,
+                                       family_of)
+        netoutputs.write_ruptures(os.path.join(case_dir, "ruptures.csv"), ruptures)
+        by_family = {}
+        for r in ruptures:
+            by_family[r["family"]] = by_family.get(r["family"], 0) + 1
+
+        data = read_data(setup.data_path)
+        end_of_impact = residual_height(
+            setup, last_nodes(os.path.join(workdir, "frames", "nodes.dump"),
+                              int(t["step"][-1])), data)
+        rest = read_rest(workdir)
+        height = residual_height(setup, rest["nodes"], data) if rest else end_of_impact
+        netoutputs.write_series(case_dir, workdir, setup.data_path, setup.block_path, setup.dt)
+        touched = np.nonzero(t["force"] > 0)[0]
+        first = int(touched[0]) if touched.size else 0
+        speed = np.sqrt(t["vx"] ** 2 + t["vy"] ** 2 + t["vz"] ** 2)
+        # stopped: the block's velocity along the normal turned (it no longer moves into the
+        # fence) at some row; a block that flies over or through the fence never turns
+        along = np.column_stack([t["vx"], t["vy"], t["vz"]]) @ n
+        return dict(
+            block_stopped=bool(np.any(along >= 0.0)),
+            braking_distance=float(np.max(travel) - travel[first]),
+            time_of_braking_distance=float(time_[int(np.argmax(travel))]),
+            residual_height=height, nominal_height=float(setup.meta["fence"]["height"]),
+            residual_height_ratio=height / float(setup.meta["fence"]["height"]),
+            residual_height_at="rest" if rest else "end of impact",
+            residual_height_end_of_impact=end_of_impact,
+            rest=None if rest is None else rest_facts(rest, float(t["time"][-1]), setup),
+            final_block_speed=float(speed[-1]),
+            support_peaks=peaks,
+            rope_peaks={f: float(np.max(s)) for f, s in peaks_of.items()},
+            brake_elongation_peak=float(np.nanmax([max(e.values()) for e in elongation])),
+            energy=dict(closure_error=float(np.max(np.abs(error))), initial_energy=e0,
+                        final_error=float(error[-1]),
+                        final={k: float(terms[k][-1]) for k in names},
+                        components={c: dict({k: float(v[-1]) for k, v in tally.items()},
+                                            elastic_peak=float(np.max(tally["elastic"])))
+                                    for c, tally in components.items()}),
+            momentum=dict(error=float(np.max(np.linalg.norm(gap, axis=1))),
+                          final_error=float(np.linalg.norm(gap[-1]))),
+            broken_bonds=len(ruptures), ruptures_by_family=by_family,
+            first_rupture=netoutputs.rupture_facts(ruptures[0]) if ruptures else None)
+

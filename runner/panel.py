@@ -1,0 +1,98 @@
+"""A net panel as the panel kinds (punch, impact) use it: generated from the case's [panel] keys
+by wirenet-gen, read back (data file, metadata), its supports rendered into a deck include and
+its output zones. Not a kind: the kinds that load a panel share it."""
+
+import math
+import os
+
+import numpy as np
+
+from postprocess.datafile import read_data
+from postprocess.meta import read_json
+
+from . import supports
+from .generator import generate
+
+# case key -> wirenet-gen option for each net (compound prefixes its layers' options)
+GENERATOR_OPTIONS = (
+    ("panel.placement", {"hex": "--placement", "compound": "--placement"}),
+    ("panel.selvedge", {"hex": "--selvedge", "compound": "--selvedge"}),
+    ("panel.hex_node_radius", {"hex": "--node-radius", "compound": "--hex-node-radius"}),
+    ("panel.hex_node_mass", {"hex": "--node-mass", "compound": "--hex-node-mass"}),
+    ("panel.square_node_radius", {"square": "--node-radius", "compound": "--square-node-radius"}),
+    ("panel.rope_mass", {"square": "--rope-mass", "compound": "--rope-mass"}),
+)
+
+
+def generator_options(case, net):
+    """wirenet-gen options beyond the net and size: only those a case changes from the schema's
+    defaults (a node radius of 0 is the generator's own), so that a case with the defaults
+    generates the generator's default net."""
+    from .schema import BY_PATH       # the schema collects the kinds, which use this module
+    options = []
+    for path, by_net in GENERATOR_OPTIONS:
+        value, option = case[path], by_net.get(net)
+        if option and value != BY_PATH[path].default and value != 0.0:
+            options += [option, value]
+    return options
+
+
+def node_masses(data):
+    """Masses of the data file's atoms (density x sphere volume)."""
+    d = data.atoms[:, 5]
+    return data.atoms[:, 6] * math.pi * d ** 3 / 6.0
+
+
+class Panel:
+    """The generated panel of a case: PREFIX.data, PREFIX.json and what the kinds read of them.
+    ``extra``: options beyond the case's (an impact raises the box)."""
+
+    def __init__(self, case, setup_dir, extra=()):
+        net = case["panel.net"]
+        prefix = os.path.join(setup_dir, "panel")
+        os.makedirs(setup_dir, exist_ok=True)
+        self.net = net
+        self.data_path = generate(net, prefix, "--width", case["panel.width"], "--height",
+                                  case["panel.height"], *generator_options(case, net), *extra)
+        self.json_path = prefix + ".json"
+        self.meta = read_json(self.json_path)
+        self.data = read_data(self.data_path)
+        self.layers = 2 if self.meta.get("kind") == "compound" else 1
+        self.masses = node_masses(self.data)
+
+    @property
+    def centre(self):
+        return np.asarray(self.meta.get("centre", [0.0, 0.0, 0.0]), float)
+
+    def centre_node(self, offset=(0.0, 0.0)):
+        """(id, radius) of the node nearest the panel centre (+ offset in x, y) on the loaded
+        (topmost) layer."""
+        atoms = self.data.atoms
+        z = atoms[:, 4]
+        top = z >= z.max() - 1e-9
+        centre = self.centre[:2] + np.asarray(offset, float)
+        d = np.hypot(atoms[:, 2] - centre[0], atoms[:, 3] - centre[1])
+        d[~top] = np.inf
+        k = int(np.argmin(d))
+        return int(atoms[k, 0]), float(atoms[k, 5] / 2)
+
+
+def write_supports(case, setup_dir):
+    """The deck variables of the case's supports: its rendered include and the matching unfix
+    file; none for the paper's (inputs/include/hold.in, unfix_supports.in)."""
+    chosen = {e: case[f"supports.{e}"] for e in supports.EDGES}
+    if chosen == supports.PAPER:
+        return {}
+    os.makedirs(setup_dir, exist_ok=True)
+    paths = {"supports": os.path.join(setup_dir, "supports.in"),
+             "unfix_supports": os.path.join(setup_dir, "unfix_supports.in")}
+    for name, text in (("supports", supports.render(chosen)),
+                       ("unfix_supports", supports.render_unfix(chosen))):
+        with open(paths[name], "w", encoding="utf-8") as handle:
+            handle.write(text)
+    return paths
+
+
+def zones_of(case):
+    """(name, (x, y) offset from the panel centre, radius) of the case's output zones."""
+    return tuple((z["name"], tuple(z["centre"]), z["radius"]) for z in case.zones)

@@ -615,7 +615,7 @@ void BondWirenet::damp_beams()
 
 // Stable time step of the bonds present: per bond, the two-node axial and rotational
 // frequencies doubled (a node shared by two bonds moving in antiphase), dt = 2 / omega_max.
-void BondWirenet::report_timestep()
+void BondWirenet::stable_frequencies(double w2[2]) const
 {
   const double *rmass = atom->rmass, *radius = atom->radius;
   double w2_trans = 0.0, w2_rot = 0.0;
@@ -645,7 +645,14 @@ void BondWirenet::report_timestep()
       w2_trans = fmax(w2_trans, 2.0 * kt * inv_m);
       w2_rot = fmax(w2_rot, 2.0 * kr * inv_i);
     }
-  double local[2] = { w2_trans, w2_rot }, global[2];
+  w2[0] = w2_trans;
+  w2[1] = w2_rot;
+}
+
+void BondWirenet::report_timestep()
+{
+  double local[2], global[2];
+  stable_frequencies(local);
   MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, world);
   if (comm->me != 0 || (global[0] == 0.0 && global[1] == 0.0)) return;
   const double dt_trans = global[0] > 0 ? 2.0 / sqrt(global[0]) : INFINITY;

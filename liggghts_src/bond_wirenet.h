@@ -46,6 +46,11 @@ class BondWirenet : public Bond {
   // this rank's sum of WireLaw::plastic_work since the last call (called before the tally is
   // read or written; a no-op when no compute() ran in between).
   void sync_plastic();
+  // Squared angular frequencies (translation, rotation) of the stiffest bond of this rank's
+  // list, as the stable step estimate counts them (report_timestep); 0 without bonds. Valid
+  // after the first force evaluation of a run (the list is built there).
+  void stable_frequencies(double w2[2]) const;
+  bool list_built() const { return list_version >= 0; }
 
  private:
   // The intact local bonds, rebuilt whenever atoms or bond slots change: wire bonds as entries

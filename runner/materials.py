@@ -3,6 +3,8 @@ inputs/include/materials.in (``variable NAME index VALUE   # SOURCE`` lines: the
 value's ``#`` is the number's source, shown in the key tables and the report). The decks use
 the values as they are; the schema (runner/schema.py) takes them as the keys' defaults."""
 
+import json
+import os
 import re
 
 from . import INPUTS
@@ -46,6 +48,7 @@ def _curve(text):
 
 SW_CURVE = _curve(MATERIALS["curve"])   # ((strain, stress [Pa]), ...) of the single wire
 PAPER_BENDING = MATERIALS["bending"]    # the bending fraction of the paper's best fit
+CALIBRATION_FILE = "calibration.json"   # python3 -m postprocess calibrate ... --out DIR/calibration
 
 
 def rope_strength(materials=None):
@@ -69,3 +72,21 @@ def resolve(overrides=None):
 def sw_curve(values):
     """((strain, stress), ...) of the single wire from a resolved materials dict."""
     return _curve(values["curve"]) if isinstance(values["curve"], str) else tuple(values["curve"])
+
+
+def bending_of(case, study_dir):
+    """(fraction, source) of the rope beams: the case's number, or for 'calibrated' the best
+    fraction of DIR/calibration.json when the study's bending cases have been fitted, else the
+    paper's."""
+    value = case["materials.bending"]
+    if value != "calibrated":
+        return value, "case file"
+    path = os.path.join(study_dir, CALIBRATION_FILE)
+    try:
+        with open(path, encoding="utf-8") as handle:
+            best = json.load(handle)["best_fraction"]
+        if isinstance(best, (int, float)) and best >= 0:
+            return float(best), f"calibrated ({path})"
+    except (OSError, ValueError, KeyError, TypeError):
+        pass
+    return PAPER_BENDING, "the paper's calibrated value (no calibration.json in the study folder)"

@@ -17,7 +17,6 @@ Deck: inputs/fence.in (include/fence_impact.in). Results, each from its own mech
 
 import math
 import os
-import re
 import time
 
 import numpy as np
@@ -28,16 +27,15 @@ from postprocess.datafile import read_data
 from postprocess.errors import PostprocessError, at
 from postprocess.meta import read_json
 
-from .. import INPUTS, budget, engine, netoutputs
+from .. import INPUTS, budget, engine, netoutputs, timestep
 from ..budget import Term
 from ..errors import RunError
+from ..block import Block
 from ..generator import generate
-from ..materials import rope_strength_keyword
+from ..materials import bending_of, rope_strength_keyword
 from ..panel import generator_options, node_masses
 from ..params import Key
 from .base import CaseKind
-from .impact import Block
-from .punch import bending_of
 
 EAD = "EAD 340059-00-0106"
 ALPHA_RELAX = 0.7        # local damping while the fence settles under its weight (before the budget)
@@ -52,10 +50,9 @@ REST_KE = 1e-5           # the rest ends below this fraction of the block's ener
 # height has stayed within REST_STILL over REST_WINDOW (the height is read to the centimetre)
 REST_STILL = 1e-3        # m
 REST_WINDOW = 0.1        # s
-DT_SAFETY = 0.5          # of the smaller of the bond style's estimate and the contact limit
+DT_SAFETY = 0.5          # of the stable step of bonds and the block's contact (runner/timestep.py)
 GAP = 0.005              # block to the foremost net node at release [m]
 TABLE = "fence.csv"      # the deck's table: names in its header (include/fence_impact.in)
-ESTIMATE = re.compile(r"stable time step estimate ([0-9.eE+-]+) s")
 
 
 def _fence(name, type_, default, unit, doc, source, **kw):
@@ -94,8 +91,9 @@ KEYS = (
     _fence("impacts", "integer", 1, "", "1, or 2: the guideline's SEL test, a second block (the "
            "same one) on the unrepaired fence after the first block is taken away and the fence "
            "has come to rest", EAD + " (SEL)", low=1, high=2, var="impacts"),
-    _fence("dt", "number", 0.0, "s", "time step; 0: half the smaller of the bond style's stable "
-           "estimate and the block contact's limit", "doc/fence.md", low=0.0, high=1e-3),
+    _fence("dt", "number", 0.0, "s", "time step; 0: half the stable step of the bonds and the "
+           "block's contact on the lightest node (compute wirenet/timestep)", "doc/fence.md",
+           low=0.0, high=1e-3),
     _fence("row_time", "number", 2e-3, "s", "time between rows of fence.csv and the CSVs made "
            "from it", "WireNet (runner/kinds/fence.py)", low=1e-6, high=1.0),
 )
@@ -206,13 +204,10 @@ class Setup:
                      if role.startswith(("hex_", "square_"))]
         self.node_r = float(np.max(data.atoms[np.isin(data.atoms[:, 1].astype(int), net_types),
                                               5]) / 2)
-        self.dt_bonds = self._bond_estimate(np_)
-        # the block's contact (kn, ks) on the lightest node: omega^2 = (kn + 2.5 ks) / m
-        w2 = (c["contact.kn"] + 2.5 * c["contact.ks"]) / float(np.min(masses))
-        if self.layers > 1:
-            w2 *= 2.0
-        self.dt_contact = 2.0 / math.sqrt(w2)
-        self.dt_stable = min(self.dt_bonds, self.dt_contact)
+        # the stable step of bonds and the block's contact on the lightest node (both layers of
+        # a compound net), from the bond style's estimate (runner/timestep.py)
+        stable = self._stable_step(np_)
+        self.dt_bonds, self.dt_contact, self.dt_stable = stable.bonds, stable.contact, stable.loaded
         self.dt = c["fence.dt"] or DT_SAFETY * self.dt_stable
         if self.dt > self.dt_stable:
             raise RunError(f"fence.dt = {self.dt:g} s exceeds the stable step "
@@ -244,17 +239,13 @@ class Setup:
             v["rope_strength"] = rope_strength_keyword(True, self.kind.material_values())
         return v
 
-    def _bond_estimate(self, np_):
-        """The bond style's own stable-step estimate (bond_style wirenet prints it at setup),
-        from a run of no steps: one formula, in C++."""
+    def _stable_step(self, np_):
+        """The stable steps of the fence as built (fence.in with probe 1: its bonds and the
+        contact, include/timestep.in)."""
         probe = os.path.join(self.workdir, "probe")
-        engine.run(INPUTS / "fence.in", probe,
-                   dict(self._base_variables(), dt=1e-9, relax_steps=0, steps=0), np=np_,
+        engine.run(INPUTS / "fence.in", probe, dict(self._base_variables(), probe=1), np=np_,
                    label="fence: stable step")
-        found = ESTIMATE.findall(open(os.path.join(probe, "log.lammps")).read())
-        if not found:
-            raise RunError(f"{probe}/log.lammps: no stable time step estimate")
-        return float(found[0])
+        return timestep.read(probe)
 
     def variables(self):
         tx, ty, tz = self.meta["impact_target"]

@@ -19,19 +19,17 @@ import time
 
 import numpy as np
 
-from postprocess import bodyframes, solid, vtu
 from postprocess.csvio import read_csv, read_deck_table, write_csv
-from postprocess.meta import PanelInfo, read_json
+from postprocess.meta import PanelInfo
 
 from .. import INPUTS, budget, engine, netoutputs, timestep
 from ..budget import Term
 from ..errors import RunError
-from ..generator import generate
-from ..materials import rope_strength, rope_strength_keyword
+from ..block import Block
+from ..materials import bending_of, rope_strength, rope_strength_keyword
 from ..panel import Panel, write_supports, zones_of
 from ..params import Key
 from .base import CaseKind
-from .punch import bending_of
 
 PAPER = "the paper (README: the study WireNet reproduces)"
 ALPHA_RELAX = 0.7      # local damping while the net settles under its weight (before the budget)
@@ -94,38 +92,6 @@ BUDGET = (
 )
 
 
-class Block:
-    """The block: the generator's truncated cube (analytic or mesh) or a closed STL of the user
-    (mesh), with its mass properties, oriented by the unit quaternion ``quat``. Writes the
-    oriented, centred STL the frames draw (and the mesh path moves) into ``workdir``."""
-
-    def __init__(self, workdir, mass, side, quat=(1.0, 0.0, 0.0, 0.0), stl=None):
-        self.mass, self.quat = float(mass), tuple(float(v) for v in quat)
-        self.path = os.path.join(workdir, "block.stl")
-        rotation = solid.quaternion_matrix(self.quat)
-        if stl is None:
-            generate("shape truncated-cube", self.path, "--side", side, "--mass", mass)
-            meta = read_json(os.path.join(workdir, "block.json"))
-            self.side = float(meta["parameters"]["side"])
-            self.cut = float(meta["parameters"]["corner_cut"])
-            inertia, centroid = np.asarray(meta["inertia"], float), np.zeros(3)
-            points, triangles = vtu.read_stl(self.path)
-        else:
-            self.side = self.cut = None
-            points, triangles = vtu.read_stl(stl)
-            _, centroid, inertia = solid.mass_properties(points, triangles, self.mass)
-        points = (points - centroid) @ rotation.T
-        bodyframes.write_stl(self.path, points, triangles, name="block")
-        self.inertia = rotation @ inertia @ rotation.T     # space axes as placed
-        self.half = float(-points[:, 2].min())             # centroid to the lowest point
-        self.radius = float(np.linalg.norm(points[:, :2], axis=1).max())
-
-    def inertia_variables(self):
-        i = self.inertia
-        return dict(mass=repr(self.mass), ixx=repr(i[0, 0]), iyy=repr(i[1, 1]), izz=repr(i[2, 2]),
-                    ixy=repr(i[0, 1]), ixz=repr(i[0, 2]), iyz=repr(i[1, 2]))
-
-
 class Setup:
     """Panel and block files plus every number the deck needs, from the checked case and its
     [[impact]] entry ``item``; ``restart``: the net an earlier impact of the sequence left."""
@@ -149,8 +115,8 @@ class Setup:
                            item["stl"] or None)
         self.stl = self.block.path
         self.dt_fraction = item["dt_fraction"]
-        self.dt = self.dt_fraction * timestep.stable(self.panel, bending, kind.material_values(),
-                                                     contact=True)
+        self.dt = self.dt_fraction * timestep.of_panel(
+            self.panel, dict(kind.key_variables(), bending=repr(bending)), workdir).loaded
         _, self.node_r = self.panel.centre_node()
         self.node_masses = self.panel.masses
         self.duration = item["duration"]

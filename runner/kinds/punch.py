@@ -19,7 +19,6 @@ The evidence (runner/quasistatic.py) compares the run with a twin four times slo
 side on the same cores, which starts from the run's pre-load.
 """
 
-import json
 import math
 import os
 import re
@@ -35,7 +34,7 @@ from postprocess.csvio import read_csv, write_csv
 from .. import INPUTS, engine, netoutputs, quasistatic, timestep
 from ..errors import RunError
 from ..generator import generate
-from ..materials import PAPER_BENDING, rope_strength, rope_strength_keyword
+from ..materials import bending_of, rope_strength, rope_strength_keyword
 from ..panel import Panel, write_supports, zones_of
 from ..params import ByKey, Derived, Key
 from .base import CaseKind
@@ -48,7 +47,6 @@ PLATTERS = ("spheroid", "cone", "sphere")
 STL_RESOLUTION = 48  # segments around the axis of the platter STL (mesh path and frames)
 RAMP = 0.002         # m of travel over which the platter's speed grows from 0 (deck: ramp)
 DT_SAFETY = 0.5      # the step with the true masses: half the stable one
-CALIBRATION_FILE = "calibration.json"   # python3 -m postprocess calibrate ... --out DIR/calibration
 # Cases of a study whose names say they are the bending-fraction cases of the paper's section 4
 BENDING_CASE_PREFIX = "calibration"
 
@@ -143,24 +141,6 @@ KEYS = (
 )
 
 
-def bending_of(case, study_dir):
-    """(fraction, source) of the rope beams: the case's number, or for 'calibrated' the best
-    fraction of DIR/calibration.json when the study's bending cases have been fitted, else the
-    paper's."""
-    value = case["materials.bending"]
-    if value != "calibrated":
-        return value, "case file"
-    path = os.path.join(study_dir, CALIBRATION_FILE)
-    try:
-        with open(path, encoding="utf-8") as handle:
-            best = json.load(handle)["best_fraction"]
-        if isinstance(best, (int, float)) and best >= 0:
-            return float(best), f"calibrated ({path})"
-    except (OSError, ValueError, KeyError, TypeError):
-        pass
-    return PAPER_BENDING, "the paper's calibrated value (no calibration.json in the study folder)"
-
-
 def platter_stl_kind(platter):
     """wirenet-gen shape of a platter's STL (a sphere is drawn as its lower half-spheroid)."""
     return "cone" if platter == "cone" else "spheroid"
@@ -208,9 +188,10 @@ class Setup:
             crop_stl(self.stl, stl_depth)
         self.centre_id, self.centre_r = self.panel.centre_node(self.position)
         self.platter_xy = self.panel.centre[:2] + np.asarray(self.position)
-        materials = kind.material_values()
-        self.dt_true = timestep.stable(self.panel, bending, materials, contact=True)
-        dt_pre_true = timestep.stable(self.panel, bending, materials, contact=False)
+        # the stable steps with the true masses: under the platter, and alone for the pre-load
+        stable = timestep.of_panel(self.panel, dict(kind.key_variables(), bending=repr(bending)),
+                                   workdir)
+        self.dt_true, dt_pre_true = stable.loaded, stable.free
         # the speed may change past the twin's travel (the curve comparison's part)
         self.speed_from = self.travel * self.check_travel
         if c["punch.mass_scaling"]:

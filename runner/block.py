@@ -1,0 +1,44 @@
+"""The rigid block of the impact kinds (impact, fence): the generator's truncated cube or a
+closed STL of the user, its mass properties, oriented and centred as released. Not a kind: the
+kinds that throw a block share it."""
+
+import os
+
+import numpy as np
+
+from postprocess import bodyframes, solid, vtu
+from postprocess.meta import read_json
+
+from .generator import generate
+
+
+class Block:
+    """The block: the generator's truncated cube (analytic or mesh) or a closed STL of the user
+    (mesh), with its mass properties, oriented by the unit quaternion ``quat``. Writes the
+    oriented, centred STL the frames draw (and the mesh path moves) into ``workdir``."""
+
+    def __init__(self, workdir, mass, side, quat=(1.0, 0.0, 0.0, 0.0), stl=None):
+        self.mass, self.quat = float(mass), tuple(float(v) for v in quat)
+        self.path = os.path.join(workdir, "block.stl")
+        rotation = solid.quaternion_matrix(self.quat)
+        if stl is None:
+            generate("shape truncated-cube", self.path, "--side", side, "--mass", mass)
+            meta = read_json(os.path.join(workdir, "block.json"))
+            self.side = float(meta["parameters"]["side"])
+            self.cut = float(meta["parameters"]["corner_cut"])
+            inertia, centroid = np.asarray(meta["inertia"], float), np.zeros(3)
+            points, triangles = vtu.read_stl(self.path)
+        else:
+            self.side = self.cut = None
+            points, triangles = vtu.read_stl(stl)
+            _, centroid, inertia = solid.mass_properties(points, triangles, self.mass)
+        points = (points - centroid) @ rotation.T
+        bodyframes.write_stl(self.path, points, triangles, name="block")
+        self.inertia = rotation @ inertia @ rotation.T     # space axes as placed
+        self.half = float(-points[:, 2].min())             # centroid to the lowest point
+        self.radius = float(np.linalg.norm(points[:, :2], axis=1).max())
+
+    def inertia_variables(self):
+        i = self.inertia
+        return dict(mass=repr(self.mass), ixx=repr(i[0, 0]), iyy=repr(i[1, 1]), izz=repr(i[2, 2]),
+                    ixy=repr(i[0, 1]), ixz=repr(i[0, 2]), iyz=repr(i[1, 2]))

@@ -24,9 +24,21 @@ class DataFile:
     atoms: np.ndarray        # rows sorted by id, columns ATOM_FIELDS
     bonds: np.ndarray        # rows sorted by id, columns BOND_FIELDS (integers)
 
+    def atom(self, field):
+        """An Atoms column by its name (ATOM_FIELDS)."""
+        return self.atoms[:, ATOM_FIELDS.index(field)]
+
+    def bond(self, field):
+        """A Bonds column by its name (BOND_FIELDS)."""
+        return self.bonds[:, BOND_FIELDS.index(field)]
+
     @property
     def atom_ids(self):
-        return self.atoms[:, 0].astype(np.int64)
+        return self.atom("id").astype(np.int64)
+
+    @property
+    def positions(self):
+        return np.column_stack([self.atom(c) for c in ("x", "y", "z")])
 
 
 def _section_rows(path, lines, start, count, width, name):
@@ -91,6 +103,6 @@ def read_data(path):
         raise at(path, len(lines), "no Atoms section")
     if bonds is None:
         bonds = np.zeros((0, 4))
-    atoms = atoms[np.argsort(atoms[:, 0], kind="stable")]
-    bonds = bonds[np.argsort(bonds[:, 0], kind="stable")].astype(np.int64)
+    atoms = atoms[np.argsort(atoms[:, ATOM_FIELDS.index("id")], kind="stable")]
+    bonds = bonds[np.argsort(bonds[:, BOND_FIELDS.index("id")], kind="stable")].astype(np.int64)
     return DataFile(atoms, bonds)

@@ -72,8 +72,8 @@ class Reference:
 
     @classmethod
     def from_data(cls, data):
-        first, second = data.bonds[:, 2], data.bonds[:, 3]
-        return cls(bond_keys(first, second), first, second, data.bonds[:, 1])
+        first, second = data.bond("atom1"), data.bond("atom2")
+        return cls(bond_keys(first, second), first, second, data.bond("type"))
 
     @classmethod
     def from_frame(cls, frame, mapping):
@@ -150,7 +150,7 @@ def write_series(pvd, bond_paths, node_paths, dt, data=None, binary=True, output
     origin = None
     if data is not None:
         order = np.argsort(data.atom_ids, kind="stable")
-        origin = (data.atom_ids[order], data.atoms[order, 2:5])
+        origin = (data.atom_ids[order], data.positions[order])
     entries = {}
     with Outputs() if outputs is None else contextlib.nullcontext(outputs) as out:
         tmp = out.directory(folder, replaceable=lambda name: ours.fullmatch(name))
@@ -296,6 +296,6 @@ def run_data(args):
     for name in ("id", "type", "molecule"):
         point_data[name] = point_data[name].astype(np.int32 if name != "id" else np.int64)
     cell_data = {"bond_id": bonds[:, 0], "family": bonds[:, 1].astype(np.int32)}
-    write_mesh(out, data.atoms[:, 2:5], pos.reshape(-1, 2), point_data, cell_data,
+    write_mesh(out, data.positions, pos.reshape(-1, 2), point_data, cell_data,
                binary=not args.ascii)
     print(f"wrote {out}: {len(ids)} points, {len(bonds)} bonds")

@@ -5,37 +5,38 @@ import os
 
 import numpy as np
 
-from postprocess import bodyframes, vtu, zone
+from postprocess import bodyframes, dumps, vtu, zone
 from postprocess.csvio import write_csv
 from postprocess.meta import PanelInfo
 
+# fix wirenet/bonds' local columns, 1-based as f_wirenet_bonds[k] (doc/fix_wirenet_bonds.md)
 RUPTURE_COLUMNS = ("step", "atom1", "atom2", "type", "x", "y", "z", "elongation")
 
 
 def read_rupture_dump(path):
-    """Rows of the rupture dump (include/ruptures.in: RUPTURE_COLUMNS), sorted by step."""
+    """{column: values} of the rupture dump (include/ruptures.in writes fix wirenet/bonds'
+    local rows), by the fix's column names, sorted by step."""
+    out = {name: np.zeros(0) for name in RUPTURE_COLUMNS}
     if not os.path.isfile(path):
-        return np.zeros((0, len(RUPTURE_COLUMNS)))
-    rows, body = [], False
-    with open(path) as fh:
-        for line in fh:
-            if line.startswith("ITEM: ENTRIES"):
-                body = True
-                continue
-            if line.startswith("ITEM:"):
-                body = False
-                continue
-            if body and line.strip():
-                rows.append([float(v) for v in line.split()[:len(RUPTURE_COLUMNS)]])
-    rows = np.array(rows, float).reshape(-1, len(RUPTURE_COLUMNS))
-    return rows[np.argsort(rows[:, 0], kind="stable")]
+        return out
+    frames = list(dumps.iter_frames(path))
+    if not frames or not len(frames[-1].data):
+        return out
+    frame = frames[-1]
+    for k, name in enumerate(frame.names):
+        index = int(name.rsplit("[", 1)[1].rstrip("]")) if name.endswith("]") else 0
+        if 1 <= index <= len(RUPTURE_COLUMNS):
+            out[RUPTURE_COLUMNS[index - 1]] = frame.data[:, k]
+    order = np.argsort(out["step"], kind="stable")
+    return {name: values[order] for name, values in out.items()}
 
 
 def ruptures(path, dt, families):
     """Every broken bond of a run as a dict (time, step, atoms, type, family, midpoint,
     elongation)."""
+    cols = read_rupture_dump(path)
     out = []
-    for step, a1, a2, btype, x, y, z, elong in read_rupture_dump(path):
+    for step, a1, a2, btype, x, y, z, elong in zip(*(cols[c] for c in RUPTURE_COLUMNS)):
         out.append(dict(time=float(step) * dt, step=int(step), atom1=int(a1), atom2=int(a2),
                         type=int(btype), family=families.get(int(btype), f"type{int(btype)}"),
                         x=float(x), y=float(y), z=float(z), elongation=float(elong)))

@@ -39,8 +39,8 @@ def generator_options(case, net):
 
 def node_masses(data):
     """Masses of the data file's atoms (density x sphere volume)."""
-    d = data.atoms[:, 5]
-    return data.atoms[:, 6] * math.pi * d ** 3 / 6.0
+    d = data.atom("diameter")
+    return data.atom("density") * math.pi * d ** 3 / 6.0
 
 
 class Panel:
@@ -67,14 +67,14 @@ class Panel:
     def centre_node(self, offset=(0.0, 0.0)):
         """(id, radius) of the node nearest the panel centre (+ offset in x, y) on the loaded
         (topmost) layer."""
-        atoms = self.data.atoms
-        z = atoms[:, 4]
+        data = self.data
+        z = data.atom("z")
         top = z >= z.max() - 1e-9
         centre = self.centre[:2] + np.asarray(offset, float)
-        d = np.hypot(atoms[:, 2] - centre[0], atoms[:, 3] - centre[1])
+        d = np.hypot(data.atom("x") - centre[0], data.atom("y") - centre[1])
         d[~top] = np.inf
         k = int(np.argmin(d))
-        return int(atoms[k, 0]), float(atoms[k, 5] / 2)
+        return int(data.atom_ids[k]), float(data.atom("diameter")[k] / 2)
 
 
 def write_supports(case, setup_dir):

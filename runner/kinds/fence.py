@@ -202,8 +202,8 @@ class Setup:
         # the block's contact on the net's nodes (the hex and square meshes' atom types)
         net_types = [int(t) for t, role in self.meta["atom_types"].items()
                      if role.startswith(("hex_", "square_"))]
-        self.node_r = float(np.max(data.atoms[np.isin(data.atoms[:, 1].astype(int), net_types),
-                                              5]) / 2)
+        net = np.isin(data.atom("type").astype(int), net_types)
+        self.node_r = float(np.max(data.atom("diameter")[net]) / 2)
         # the stable step of bonds and the block's contact on the lightest node (both layers of
         # a compound net), from the bond style's estimate (runner/timestep.py)
         stable = self._stable_step(np_)
@@ -367,10 +367,11 @@ def residual_height(setup, nodes_frame, data):
     the generator's role 'rope', top or bottom by their height in the data file."""
     x0, x1, zsplit = middle_module(setup.meta)
     rope_type = rope_node_type(setup.meta)
-    rope = data.atoms[data.atoms[:, 1] == rope_type]
-    top_ids = set(rope[rope[:, 4] > zsplit, 0].astype(int))
+    rope = data.atom("type") == rope_type
+    rope_ids = data.atom_ids[rope]
+    top_ids = set(rope_ids[data.atom("z")[rope] > zsplit].tolist())
     ids, pos = nodes_frame
-    ropes = np.isin(ids, rope[:, 0].astype(int))
+    ropes = np.isin(ids, rope_ids)
     inside = ropes & (pos[:, 0] >= x0) & (pos[:, 0] <= x1)
     top = inside & np.isin(ids, list(top_ids))
     bottom = inside & ~np.isin(ids, list(top_ids))

@@ -19,7 +19,7 @@ import time
 
 import numpy as np
 
-from postprocess.csvio import read_csv, read_deck_table, write_csv
+from postprocess.csvio import read_deck_table, write_csv
 from postprocess.meta import PanelInfo
 
 from .. import INPUTS, budget, engine, netoutputs, timestep
@@ -162,26 +162,11 @@ class Setup:
 # reading the run
 
 def read_table(workdir):
-    """impact.csv by its column names, with the bond damping's dissipation since the impact
-    began (bond_damping.csv) as the column w_bond_damping."""
-    table = read_deck_table(os.path.join(workdir, TABLE),
-                            sorted({c for t in BUDGET for c in t.columns} - {"w_bond_damping"}))
-    table["w_bond_damping"] = _bond_damping_work(workdir, table["step"])
-    return table
-
-
-def _bond_damping_work(workdir, steps):
-    """Energy dissipated by bond damping since the impact began, at the rows' steps, from
-    bond_damping.csv (inputs/include/bond_damping_work.in): 0 at step 0, which fix print may
-    not write; a row the file lacks is an error."""
-    path = os.path.join(workdir, "bond_damping.csv")
-    rows = read_csv(path, required=("step", "w_bond_damping"))
-    by_step = {0: 0.0}
-    by_step.update(zip(rows["step"].astype(int).tolist(), rows["w_bond_damping"].tolist()))
-    missing = [int(s) for s in steps if int(s) not in by_step]
-    if missing:
-        raise RunError(f"{path}: no row for step {missing[0]} of impact.csv")
-    return np.array([by_step[int(s)] for s in steps])
+    """impact.csv by its column names (the budget's and the block's)."""
+    return read_deck_table(os.path.join(workdir, TABLE), sorted(
+        {c for t in BUDGET for c in t.columns} | {
+            "step", "time", "x", "y", "z", "vx", "vy", "vz", "force_mean", "rx_mean", "ry_mean",
+            "rz_mean", "px_net", "py_net", "pz_net", "jx_damp", "jy_damp", "jz_damp"}))
 
 
 def momentum_balance(table, dt, mass, net_mass, g):

@@ -1,5 +1,5 @@
 """Beam law of bond_style wirenet: the paper's cantilever check (Fig. 1) against beam theory,
-through the same code path as `./wirenet run beam` (runner.cantilever.cantilever).
+through the same code path as `./wirenet run beam` (runner.kinds.cantilever.cantilever).
 
 Cantilever 2 m, d = 1 cm, E = 10 GPa, nu = 0.288, tip load P along -z, clamped root, damped to rest
 with viscous damping critical for the first bending mode (damping does not change the rest state).
@@ -7,7 +7,7 @@ with viscous damping critical for the first bending mode (damping does not chang
 
 import pytest
 
-from runner.cantilever import BEAM, bending_stiffness, cantilever
+from runner.kinds.cantilever import BEAM, bending_stiffness, cantilever
 
 L = BEAM["length"]
 

@@ -90,7 +90,7 @@ def test_case_slack_keys_reach_every_wire_bond(tmp_path):
     it carries k*/k_u = e_1 / (lambda_u + (1 + lambda_u) e_1) of its slack-free tension (the
     double twist keeps the single wire's first point: `derived` scales the strains from the
     second on); the default slack_u 0 is exactly no slack."""
-    from postprocess.model import SW_CURVE
+    from runner.materials import SW_CURVE
     plain = _stretched_tensions(tmp_path, "plain", {})
     slack = _stretched_tensions(tmp_path, "slack", {"slack_u": 0.2, "slack_seed": -1})
     first = {t: SW_CURVE[0][0] for t in (1, 2, 3)}
@@ -106,14 +106,16 @@ def test_case_slack_keys_reach_every_wire_bond(tmp_path):
 
 
 def test_no_six_lines_repeated_between_runner_modules():
-    """The same rule for the Python modules of the runner (runner/*.py): a set-up shared by two
-    kinds of case lives in one function, not in two copies."""
-    modules = sorted((lmp.ROOT / "runner").glob("*.py"))
-    assert len(modules) >= 8
+    """The same rule for the Python modules of the runner (runner/*.py and the kinds,
+    runner/kinds/*.py): a set-up shared by two kinds of case lives in one function, not in two
+    copies."""
+    modules = sorted((lmp.ROOT / "runner").rglob("*.py"))
+    assert len(modules) >= 8 and any(m.parent.name == "kinds" for m in modules)
     repeated = []
     for i, a in enumerate(modules):
         for b in modules[i + 1:]:
-            repeated += [f"{a.name}:{line} also in {b.name}" for line in shared_runs(a, b)]
+            ra, rb = a.relative_to(lmp.ROOT), b.relative_to(lmp.ROOT)
+            repeated += [f"{ra}:{line} also in {rb}" for line in shared_runs(a, b)]
     assert not repeated, repeated
 
 

@@ -370,10 +370,10 @@ def test_a_failed_case_stops_the_one_beside_it(tmp_path):
 def test_mpi_runs_get_the_shared_memory_tuning_unless_the_user_set_it(monkeypatch):
     """The runs' OpenMPI environment sends a net's ghost messages eagerly through the shared
     buffers (docs/PERFORMANCE.md: 2 ranks 1.5x instead of 1.1x), and a user's own value wins."""
-    from postprocess import liggghts as lig
+    from runner import engine
     monkeypatch.delenv("OMPI_MCA_btl_vader_eager_limit", raising=False)
     monkeypatch.setenv("OMPI_MCA_btl_vader_single_copy_mechanism", "cma")
-    env = lig.mpi_env()
+    env = engine.mpi_env()
     assert env["OMPI_MCA_btl_vader_eager_limit"] == "65536"
     assert env["OMPI_MCA_btl_vader_single_copy_mechanism"] == "cma"
     assert env["OMPI_ALLOW_RUN_AS_ROOT"] == "1"

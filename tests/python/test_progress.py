@@ -1,12 +1,12 @@
-"""Progress lines of a running deck (postprocess.liggghts.Progress) from a log being written."""
+"""Progress lines of a running deck (runner.engine.Progress) from a log being written."""
 
 import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
-from postprocess import liggghts  # noqa: E402
-from postprocess.liggghts import Progress  # noqa: E402
+from runner import engine  # noqa: E402
+from runner.engine import Progress  # noqa: E402
 
 THERMO = "Step Atoms KinEng\n"
 
@@ -14,7 +14,7 @@ THERMO = "Step Atoms KinEng\n"
 def test_preparation_phase_is_not_counted_and_lines_only_on_new_steps(tmp_path, capsys,
                                                                       monkeypatch):
     clock = [1000.0]
-    monkeypatch.setattr(liggghts.time, "time", lambda: clock[0])
+    monkeypatch.setattr(engine.time, "time", lambda: clock[0])
     log = tmp_path / "log.lammps"
     log.write_text(THERMO + "5000 10 0.1\n9000 10 0.2\n")
     progress = Progress(log, total=1000, label="run", dt=0.5, phase_marker="pre-load: done")
@@ -54,12 +54,12 @@ def test_a_deck_that_stops_before_its_end_marker_is_not_complete(tmp_path):
     """LIGGGHTS ends early and exits 0 when killed from outside (a forced restart); a deck that
     prints the end marker as its last line must have printed it, or the run is an error."""
     import pytest
-    from postprocess.errors import PostprocessError
+    from runner.errors import RunError
     early = tmp_path / "early.in"
-    early.write_text(f'print "start"\njump SELF skip\nprint "{liggghts.END_MARKER}"\n'
+    early.write_text(f'print "start"\njump SELF skip\nprint "{engine.END_MARKER}"\n'
                      'label skip\n')
-    with pytest.raises(PostprocessError, match="stopped before the end of early.in"):
-        liggghts.run(early, tmp_path / "a")
+    with pytest.raises(RunError, match="stopped before the end of early.in"):
+        engine.run(early, tmp_path / "a")
     whole = tmp_path / "whole.in"
-    whole.write_text(f'print "start"\nprint "{liggghts.END_MARKER}"\n')
-    liggghts.run(whole, tmp_path / "b")
+    whole.write_text(f'print "start"\nprint "{engine.END_MARKER}"\n')
+    engine.run(whole, tmp_path / "b")

@@ -10,7 +10,7 @@ import subprocess
 import pytest
 
 import lmp
-from runner import casefile, cases, schema, supports, templates
+from runner import casefile, kinds, materials, schema, supports, templates
 
 DRIVER = lmp.ROOT / "wirenet"
 
@@ -33,14 +33,14 @@ def error_of(text):
     ('kind = "punch"\n[supports]\nfront = "pinned"\n', "supports.front: unknown key"),
     ('kind = "punch"\n[supports]\nleft = "glued"\n', "supports.left: must be one of pinned, sliding, free"),
     ('kind = "punch"\n[panel]\nwidth = "3"\n', "panel.width: must be a number [m], got text '3'"),
-    ('kind = "punch"\n[panel]\nwidth = -3.0\n', "panel.width: must be > 0, got -3"),
+    ('kind = "punch"\n[panel]\nwidth = -3.0\n', "panel.width: must be >= 0.1, got -3 [m]"),
     ('kind = "punch"\n[panel]\nwidth = nan\n', "panel.width: must be a finite number, got nan"),
     ('kind = "punch"\n[panel]\nwidth = inf\n', "panel.width: must be a finite number, got inf"),
     ('kind = "punch"\n[damping]\nlocal = 1.5\n', "damping.local: must be <= 0.999, got 1.5"),
     ('kind = "punch"\n[punch]\nposition = [0.0]\n', "punch.position: must be a list of 2 numbers"),
     ('kind = "punch"\n[punch]\nquasi_static_check = 1\n', "punch.quasi_static_check: must be true or false"),
     ('kind = "punch"\n[punch]\nplatter = "spheriod"\n', "did you mean 'spheroid'?"),
-    ('kind = "punch"\n[impact]\nmass = 10.0\n', "impact.mass: only for kind 'impact'"),
+    ('kind = "punch"\n[impact]\nmass = 10.0\n', "impact.mass: only for kind 'impact' (this case is 'punch')"),
     ('kind = "impact"\n[punch]\nspeed = 1.0\n', "punch.speed: only for kind 'punch'"),
     ('kind = "impact"\n[impact]\nmas = 10.0\n', "impact.mas: unknown key (did you mean 'mass'?)"),
     ('kind = "impact"\n[impact]\nvelocity = [0.0, 0.0, 0.0]\n', "impact.velocity: must not be zero"),
@@ -66,7 +66,7 @@ def error_of(text):
     ('title = "x"\n', "kind: missing"),
     ('kind = "punch"\n[materials]\ncurve = [[0.01, 1e8], [0.005, 2e8]]\n', "materials.curve: strains must be > 0 and increasing"),
     ('kind = "punch"\n[materials]\nbending = "paper"\n', "materials.bending: must be a number >= 0 or 'calibrated'"),
-    ('kind = "impact"\n[[impact]]\nmass = 1.0\n[[impact]]\nmass = -1.0\n', "impact[2].mass: must be > 0"),
+    ('kind = "impact"\n[[impact]]\nmass = 1.0\n[[impact]]\nmass = -1.0\n', "impact[2].mass: must be >= 0.001, got -1 [kg]"),
     ('kind = "punch"\n[[output.zones]]\nname = "a"\n[[output.zones]]\nname = "a"\n', "output.zones: zone names must differ"),
     ('kind = "punch"\n[punch]\ntip_radius = 0.01\n', "punch.tip_radius: only for punch.platter = 'cone'"),
     ('kind = "punch"\n[punch]\nbody = "mesh"\nspeed_max = 2\n', "punch.speed_max: > 1 needs punch.body = 'analytic'"),
@@ -110,14 +110,27 @@ def test_defaults_are_the_papers():
 
 def test_materials_defaults_come_from_materials_in():
     """One source: the schema's material defaults are the values of inputs/include/materials.in,
-    and a case at its defaults passes no material override to the deck."""
+    and a case at its defaults gives the deck exactly materials.in's numbers (the deck gets every
+    key's variable: kinds.of(case).key_variables()); a changed key changes that value only."""
     text = (lmp.ROOT / "inputs" / "include" / "materials.in").read_text()
     assert "variable rope_E        index 6e10" in text
     assert schema.BY_PATH["materials.rope_E"].default == 6e10
-    assert cases.materials_of(check('kind = "punch"\n')) == {}
-    changed = cases.materials_of(check('kind = "punch"\n[materials]\nrope_E = 1e11\n'
-                                       '[contact]\nmu = 0.3\n'))
-    assert changed == {"rope_E": 1e11, "mu": 0.3}
+    default = kinds.of(check('kind = "punch"\n'))
+    values, deck = default.material_values(), default.key_variables()
+    shared = [n for n in values if n in materials.MATERIALS and n not in ("bending", "rope_strength")]
+    assert {"wire_d", "rope_E", "kn", "ks", "mu", "slack_seed", "curve", "shear"} <= set(shared)
+    for name in shared:
+        if name == "curve":
+            assert [tuple(p) for p in values[name]] == list(materials.SW_CURVE)
+            assert [float(v) for v in deck[name].split()] == [v for p in materials.SW_CURVE for v in p]
+        elif isinstance(materials.MATERIALS[name], str):
+            assert values[name] == deck[name] == materials.MATERIALS[name], name
+        else:
+            assert values[name] == materials.MATERIALS[name], name
+            assert float(deck[name]) == materials.MATERIALS[name], name
+    changed = kinds.of(check('kind = "punch"\n[materials]\nrope_E = 1e11\n'
+                             '[contact]\nmu = 0.3\n')).material_values()
+    assert {n: v for n, v in changed.items() if v != values[n]} == {"rope_E": 1e11, "mu": 0.3}
 
 
 def test_set_overrides(tmp_path):
@@ -132,7 +145,7 @@ def test_set_overrides(tmp_path):
     assert [i["mass"] for i in case.impacts] == [40.0, 40.0]
     with pytest.raises(casefile.CaseFileError, match="impact.3.mass: the case file has 2"):
         casefile.read(path, ["impact.3.mass=1"])
-    with pytest.raises(casefile.CaseFileError, match="panel.width: must be > 0"):
+    with pytest.raises(casefile.CaseFileError, match=r"panel.width: must be >= 0.1, got -1 \[m\]"):
         casefile.read(path, ["panel.width=-1"])
     with pytest.raises(casefile.CaseFileError, match="expected KEY=VALUE"):
         casefile.read(path, ["panel.width"])
@@ -143,28 +156,47 @@ def test_templates_parse_to_the_defaults(kind):
     template = templates.template(kind)
     assert check(template).values == check(f'kind = "{kind}"\n').values
     for key in schema.KEYS:
-        if schema.applies(key, kind) and key.path != "kind" and key.default_for(kind) is not None:
+        if schema.applies(key, kind) and key.path != "kind" and \
+                schema.default_of(key, kind) is not None:
             assert f"{key.name} = " in template, key.path
         elif not schema.applies(key, kind):
             assert f"\n{key.name} = " not in template or key.name in (
                 k.name for k in schema.KEYS if schema.applies(k, kind)), key.path
 
 
-def test_fence_defaults_and_contact():
+def test_fence_defaults_and_contact(tmp_path, monkeypatch):
     """A fence case: the generator's default fence (compound net, 3 x 10 m x 5 m), the 500 kJ
     block of EAD 340059 (1600 kg at 25 m/s), the fence's soft contact penalty passed to the
     deck (materials.in's 1e9 N/m is the paper's panel contact); --quick shrinks all of it."""
-    from runner import cases
+    from runner.kinds import fence
     case = check('kind = "fence"\n')
     assert case["panel.net"] == "compound" and case["fence.modules"] == 3
     assert 0.5 * case["fence.block_mass"] * case["fence.speed"] ** 2 == pytest.approx(500e3)
-    assert cases.materials_of(case)["kn"] == 1e7 and cases.materials_of(case)["ks"] == 1e6
-    assert "kn" not in cases.materials_of(check('kind = "impact"\n'))
+    kind = kinds.of(case)
+    assert kind.material_values()["kn"] == 1e7 and kind.material_values()["ks"] == 1e6
+    assert float(kind.key_variables()["kn"]) == 1e7 and float(kind.key_variables()["ks"]) == 1e6
+    impact = kinds.of(check('kind = "impact"\n'))
+    assert impact.material_values()["kn"] == materials.MATERIALS["kn"] == 1e9
     quick = casefile.parse('kind = "fence"\n', quick=True)
     assert quick["fence.spacing"] == 4.0 and quick["fence.speed"] == 5.0
     # generator options: a fence takes the compound generator's prefixed names for any net
+    # (what the fence's Setup hands wirenet-gen, stopped there)
     case = check('kind = "fence"\n[panel]\nnet = "hex"\nhex_node_mass = 0.005\n')
-    assert cases.generator_options(case) == ["--hex-node-mass", 0.005]
+    calls = []
+
+    class Generated(Exception):
+        pass
+
+    def generate(what, prefix, *options):
+        calls.append((what, options))
+        raise Generated
+
+    monkeypatch.setattr(fence, "generate", generate)
+    with pytest.raises(Generated):
+        fence.Setup(kinds.of(case), str(tmp_path), 0.05)
+    what, options = calls[0]
+    assert what == "fence" and list(options[-2:]) == ["--hex-node-mass", 0.005]
+    assert options[options.index("--net") + 1] == "hex"
 
 
 def test_shipped_case_files_check():
@@ -180,11 +212,11 @@ def test_shipped_case_files_check():
 
 def test_calibration_fraction_flows_into_the_cases(tmp_path):
     case = check('kind = "punch"\n')
-    assert cases.bending_of(case, tmp_path)[0] == 0.05            # the paper's
+    assert materials.bending_of(case, tmp_path)[0] == 0.05            # the paper's
     (tmp_path / "calibration.json").write_text('{"best_fraction": 0.031}')
-    value, source = cases.bending_of(case, tmp_path)
+    value, source = materials.bending_of(case, tmp_path)
     assert value == 0.031 and "calibrated" in source
-    assert cases.bending_of(check('kind = "punch"\n[materials]\nbending = 0.2\n'), tmp_path)[0] == 0.2
+    assert materials.bending_of(check('kind = "punch"\n[materials]\nbending = 0.2\n'), tmp_path)[0] == 0.2
 
 
 # --- supports ---------------------------------------------------------------------------------
@@ -345,7 +377,7 @@ def test_study_file_errors(tmp_path):
     # a bad file anywhere in the study stops it before the first case
     (tmp_path / "a" / "broken.toml").write_text('kind = "punch"\n[panel]\nwidth = 0.0\n')
     bad.write_text('cases = ["beam", "a/broken.toml"]\n')
-    with pytest.raises(study.StudyError, match="broken.toml: panel.width: must be > 0"):
+    with pytest.raises(study.StudyError, match="broken.toml: panel.width: must be >= 0.1, got 0 "):
         study.load_cases(study.resolve_target(str(bad))[1], True, ())
     # a study file is told from a case file by its `cases` key
     assert study.resolve_target(str(lmp.ROOT / "inputs" / "studies" / "impact.toml"))[1][0] \
@@ -376,9 +408,9 @@ def test_stl_block_mass_properties_and_orientation(tmp_path):
     below the centroid."""
     import numpy as np
     from postprocess import vtu
-    from runner import impact
+    from runner.block import Block
     _box_stl(tmp_path / "box.stl", 0.6, 0.4, 0.2, (5.0, -3.0, 1.0))
-    block = impact.Block(str(tmp_path), 12.0, None, stl=str(tmp_path / "box.stl"))
+    block = Block(str(tmp_path), 12.0, None, stl=str(tmp_path / "box.stl"))
     expected = np.diag([12 * (0.4 ** 2 + 0.2 ** 2) / 12, 12 * (0.6 ** 2 + 0.2 ** 2) / 12,
                         12 * (0.6 ** 2 + 0.4 ** 2) / 12])
     assert np.allclose(block.inertia, expected, atol=1e-12)
@@ -387,14 +419,16 @@ def test_stl_block_mass_properties_and_orientation(tmp_path):
     assert np.allclose(points.mean(axis=0), 0.0, atol=1e-12)    # the written STL is centred
     s = math.sqrt(0.5)
     (tmp_path / "t").mkdir()
-    turned = impact.Block(str(tmp_path / "t"), 12.0, None, quat=(s, 0.0, 0.0, s),
+    turned = Block(str(tmp_path / "t"), 12.0, None, quat=(s, 0.0, 0.0, s),
                           stl=str(tmp_path / "box.stl"))
     assert np.allclose(np.diag(turned.inertia), np.diag(expected)[[1, 0, 2]], atol=1e-12)
     assert turned.half == pytest.approx(0.1)
 
 
 def test_missing_previous_net_is_named(tmp_path):
-    from runner import impact
-    from postprocess.errors import PostprocessError
-    with pytest.raises(PostprocessError, match="no net from the previous impact"):
-        impact.Setup(str(tmp_path), "hex", quick=True, restart=str(tmp_path / "net.restart"))
+    from runner.errors import RunError
+    from runner.kinds import impact
+    case = check('kind = "impact"\n', quick=True)
+    with pytest.raises(RunError, match="no net from the previous impact"):
+        impact.Setup(kinds.of(case), str(tmp_path), case.impacts[0], 0.05,
+                     restart=str(tmp_path / "net.restart"))

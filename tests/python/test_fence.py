@@ -31,9 +31,10 @@ import numpy as np
 import pytest
 
 import lmp
-from postprocess import fence
 from postprocess.datafile import read_data
-from runner.fence import REST_VISCOUS, component_types, rest_probe
+from runner import api, budget, kinds
+from runner.kinds import fence
+from runner.kinds.fence import ALPHA_RELAX, GAP, REST_VISCOUS, component_types, rest_probe
 
 FENCE = ["--modules", "1", "--spacing", "4", "--height", "2", "--net", "hex",
          "--anchor-distance", "2", "--bottom-anchor-distance", "1", "--upslope-distance", "3",
@@ -48,8 +49,24 @@ IMPACT_STEPS, IMPACT_EVERY = 75000, 2500
 # again, and a second block hits it
 REST_STEPS, REST_KE = 50000, 1e-4 * 0.5 * BLOCK["mass"] * BLOCK["speed"] ** 2
 # ... or until the middle module's ropes are still: here within 6 mm over 0.05 s (5 rows), so
-# that the test's short rests end on it (the cases: 1 mm over 0.1 s, runner/fence.py)
+# that the test's short rests end on it (the cases: 1 mm over 0.1 s, runner/kinds/fence.py)
 REST_STILL_TEST, REST_WINDOW_STEPS = 6e-3, 5 * IMPACT_EVERY
+
+
+def key_variables():
+    """The deck variables of a fence case's keys with this test's net, contact and damping
+    (materials, contacts, gravity, damping, impacts), as the runner passes them: the decks
+    state no defaults of their own (kinds.of(case).key_variables())."""
+    case = api.load('kind = "fence"\n[panel]\nnet = "hex"\n[contact]\nkn = 1e7\nks = 1e6\n'
+                    '[damping]\nlocal = 0.1\n')
+    return kinds.of(case).key_variables()
+
+
+def deck_value(value):
+    """A value as the deck's own `variable NAME index VALUE` line takes it (several words
+    quoted: one value)."""
+    text = str(value)
+    return f'"{text}"' if " " in text and not text.startswith('"') else text
 
 
 def generate(folder):
@@ -70,28 +87,36 @@ def block(folder, meta):
     inertia = json.loads((folder / "block.json").read_text())["inertia"]
     turn = math.radians(meta["fence"]["post_tilt_deg"]) - math.pi / 2
     (tx, ty, tz), (nx, ny, nz) = meta["impact_target"], meta["normal"]
-    return dict(steps=IMPACT_STEPS, block_side=BLOCK["side"], mass=BLOCK["mass"],
+    cut = json.loads((folder / "block.json").read_text())["parameters"]["corner_cut"]
+    return dict(steps=IMPACT_STEPS, block_side=BLOCK["side"], block_cut=cut,
+                block_half=BLOCK["side"] / 2, mass=BLOCK["mass"],
                 speed=BLOCK["speed"], ixx=inertia[0][0], iyy=inertia[1][1], izz=inertia[2][2],
+                ixy=inertia[0][1], ixz=inertia[0][2], iyz=inertia[1][2],
                 quat=f"\"{math.cos(turn / 2)} {math.sin(turn / 2)} 0 0\"", target_x=tx,
                 target_y=ty, target_z=tz, normal_x=nx, normal_y=ny, normal_z=nz, foot_r=0.5,
-                kn=1e7, ks=1e6, alpha=0.1)
+                gap=GAP, node_r=0.0054, kn=1e7, ks=1e6, alpha=0.1)
 
 
 def settle(folder, np=1, impacts=1):
     prefix, meta = generate(folder)
     section = meta["posts"]["section"]
-    var = dict(inc=lmp.ROOT / "inputs" / "include", data=f"{prefix}.data", shackles=f"{prefix}.shackles",
+    var = dict(key_variables(), layers=1, alpha_relax=ALPHA_RELAX,
+               inc=lmp.ROOT / "inputs" / "include", data=f"{prefix}.data", shackles=f"{prefix}.shackles",
                support_d=meta["ropes"]["support"]["diameter"], upslope_d=meta["ropes"]["upslope"]["diameter"],
                post_A=section["A"], post_Iy=section["Iy"], post_Iz=section["Iz"], post_J=section["J"],
                ghost=2.5 * meta["max_bond_length"], dt=DT, relax_steps=STEPS, every=EVERY, out=folder)
-    var.update(block(folder, meta), every=IMPACT_EVERY, relax_steps=STEPS // IMPACT_EVERY * IMPACT_EVERY)
+    var.update(block(folder, meta), every=IMPACT_EVERY, relax_steps=STEPS // IMPACT_EVERY * IMPACT_EVERY,
+               dump_every=IMPACT_EVERY, frame_every=IMPACT_STEPS // 10)
+    # no rest after an impact unless impacts = 2 (the SEL test)
+    var.update(rest_steps=0, rest_chunk=IMPACT_EVERY, rest_ke=0, rest_viscous=0, rest_still=0,
+               rest_window=IMPACT_EVERY, rest_x0=0, rest_x1=0, rest_zsplit=0)
     if impacts == 2:
         var.update(impacts=2, rest_steps=REST_STEPS, rest_chunk=IMPACT_EVERY, rest_ke=REST_KE,
                    rest_viscous=REST_VISCOUS,
                    **dict(rest_probe(meta, DT, IMPACT_EVERY), rest_still=REST_STILL_TEST,
                           rest_window=REST_WINDOW_STEPS))
     # index variables defined first win over the deck's own defaults, as -var does
-    deck = "".join(f"variable {k} index {v}\n" for k, v in var.items())
+    deck = "".join(f"variable {k} index {deck_value(v)}\n" for k, v in var.items())
     deck += (lmp.ROOT / "inputs" / "fence.in").read_text()
     return meta, lmp.run_deck(deck, folder, np=np, name="in.fence")
 
@@ -130,7 +155,7 @@ def impact(hung, tmp_path_factory):
 
 def test_the_energy_budget_closes(impact):
     meta, t, _ = impact
-    terms, total, e0, error = fence.energy_budget(t)
+    terms, total, e0, error = budget.energy_budget(t, fence.BUDGET)
     # the block, plus the elastic energy the fence holds at rest
     assert e0 == pytest.approx(0.5 * BLOCK["mass"] * BLOCK["speed"] ** 2, rel=2e-3)
     assert np.max(np.abs(error)) < 1e-3
@@ -179,7 +204,7 @@ def test_two_ranks_agree(impact, impact_two_ranks):
     for column in ("anchors_x", "anchors_y", "anchors_z", "bases_y", "bases_z"):
         peak = np.max(np.abs(one[column]))
         assert np.max(np.abs(one[column] - two[column])) < 0.01 * peak, column
-    assert np.max(np.abs(fence.energy_budget(two)[3])) < 1e-3
+    assert np.max(np.abs(budget.energy_budget(two, fence.BUDGET)[3])) < 1e-3
 
 
 def test_the_energy_per_component_adds_up(impact):
@@ -191,7 +216,7 @@ def test_the_energy_per_component_adds_up(impact):
     steps, tallies = fence.read_bond_types(folder)
     n = len(t["step"])
     assert list(steps[:n]) == list(t["step"].astype(int))
-    types = component_types(tallies.shape[1])
+    types = component_types(meta, tallies.shape[1])
     assert sorted(x for v in types.values() for x in v) == list(range(1, 10))
     parts = fence.component_energies(tallies[:n], types)
     e0 = 0.5 * BLOCK["mass"] * BLOCK["speed"] ** 2
@@ -239,7 +264,7 @@ def rest_rows(path):
 
 def test_the_second_impact_balances(second):
     meta, _, t, _ = second
-    terms, total, e0, error = fence.energy_budget(t)
+    terms, total, e0, error = budget.energy_budget(t, fence.BUDGET)
     # the block's energy, plus what the unrepaired fence holds and its motion at release
     assert e0 >= 0.5 * BLOCK["mass"] * BLOCK["speed"] ** 2
     assert np.max(np.abs(error)) < 1e-3

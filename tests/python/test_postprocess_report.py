@@ -1,4 +1,7 @@
-"""postprocess plot / report on small synthetic case folders: files, numbers and the claims."""
+"""postprocess plot / report on small synthetic case folders: files, numbers and the claims.
+The claims are judged on the cases their records say they are (case.json: kind, panel, block,
+dissipation; postprocess/claims.py), under each dissipation model the records hold; the folder
+names only label them."""
 
 import json
 import sys
@@ -9,6 +12,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from postprocess.__main__ import main  # noqa: E402
+from postprocess import claims as claims_module  # noqa: E402
 from postprocess import report as report_module  # noqa: E402
 from test_figure4 import make_case, write_series  # noqa: E402
 
@@ -33,6 +37,28 @@ def write_csv(path, header, rows):
     path.write_text(header + "\n" + "".join(",".join(map(str, r)) + "\n" for r in rows))
 
 
+# what each case's record says it is (the facts the claims match cases by)
+BLOCK = {"mass": 44.5, "speed": 10.0, "point": [0.0, 0.0]}
+FACTS = {"punch_hex": {"kind": "punch", "panel": "hex", "platter": "spheroid"},
+         "punch_compound": {"kind": "punch", "panel": "compound", "platter": "spheroid"},
+         "impact_hex": {"kind": "impact", "panel": "hex", "block": BLOCK, "dissipation": "local"},
+         "impact_compound": {"kind": "impact", "panel": "compound", "block": BLOCK,
+                             "dissipation": "local"},
+         "impact_square": {"kind": "impact", "panel": "square", "block": BLOCK,
+                           "dissipation": "local"}}
+STUDY = ("beam", "calib_0", "calib_0.05", "punch_hex", "punch_compound", "impact_hex",
+         "impact_square", "impact_compound")
+
+
+def set_meta(folder, **fields):
+    """Add fields to a case folder's case.json (made if absent)."""
+    path = folder / "case.json"
+    meta = json.loads(path.read_text()) if path.is_file() else {}
+    meta.update(fields)
+    folder.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(meta))
+
+
 def make_study(root, hex_peaks=None, rope=(4e5, 9e3), square_rope=(5e5, 1e4), skip=()):
     """A study folder in which all three claims hold unless the peaks say otherwise."""
     hex_peaks = hex_peaks or {}
@@ -54,12 +80,15 @@ def make_study(root, hex_peaks=None, rope=(4e5, 9e3), square_rope=(5e5, 1e4), sk
         if name not in skip:
             write_csv(root / name / "block.csv", "time,x,y,z,vx,vy,vz,force",
                       [(0, 0, 0, 1, 0, 0, -10, 0), (0.1, 0, 0, 0, 0, 0, 0, 7.5e5)])
+    for name, facts in FACTS.items():
+        if name not in skip:
+            set_meta(root / name, status="ok", **facts)
     if "impact_hex" not in skip:
-        (root / "impact_hex" / "case.json").write_text(json.dumps(
+        set_meta(root / "impact_hex", **
             {"wall_time": 12.5, "first_rupture": 0.031, "edge_force_peak": 2.5e5,
-             "status": "ok"}))
+             "status": "ok"})
     if "punch_hex" not in skip:
-        (root / "punch_hex" / "case.json").write_text(json.dumps(
+        set_meta(root / "punch_hex", **
             {"status": "ok", "wall_time": 900.0,
              "first_rupture": {"displacement": 0.3, "force": 2.5e5, "step": 1200,
                                "bond": {"atom1": 17, "atom2": 18, "type": 1, "family": "DT"}},
@@ -68,12 +97,14 @@ def make_study(root, hex_peaks=None, rope=(4e5, 9e3), square_rope=(5e5, 1e4), sk
                               "equilibrium_error": 0.00079,
                               "equilibrium_error_of_current": 0.0051,
                               "equilibrium_holds_from": 0.12,
-                              "snap_events": [], "passed": True}}))
+                              "snap_events": [], "passed": True}})
     if "calibration" not in skip:
         for fraction in ("0", "0.05"):
             write_csv(root / f"calib_{fraction}" / "platter.csv", "time,displacement,force",
                       [(0, 0, 0), (1, 0.1, 1e4 * (1 + float(fraction)))])
-        (root / "calib_0.05" / "case.json").write_text(json.dumps({"bending": 0.05}))
+        for fraction in ("0", "0.05"):
+            set_meta(root / f"calib_{fraction}", status="ok", kind="calibration", panel="square",
+                     platter="cone", bending=float(fraction))
     if "beam" not in skip:
         write_csv(root / "beam" / "beam.csv", "elements,load,tip_deflection,"
                   "analytic_deflection,nrmse",
@@ -84,8 +115,9 @@ def make_study(root, hex_peaks=None, rope=(4e5, 9e3), square_rope=(5e5, 1e4), sk
     return root
 
 
-def report(root, figures=False):
-    args = ["report", str(root)] + ([] if figures else ["--no-figures"])
+def report(root, figures=False, expect=()):
+    args = ["report", str(root)] + ([] if figures else ["--no-figures"]) + \
+        (["--expect", *expect] if expect else [])
     assert main(args) == 0
     summary = json.loads((root / "summary.json").read_text())
     return summary, (root / "report.md").read_text()
@@ -118,7 +150,9 @@ def test_full_report_with_figures(tmp_path):
         assert "<svg" in (tmp_path / "figures" / f"{name}.svg").read_text()[:2000]
         assert f"![{name}](figures/{name}.png)" in text
     assert verdicts(summary) == [("supported", True)] * 3
-    assert summary["missing"] == [] and summary["not_implemented"] == []
+    assert summary["missing"] == [] and "not_implemented" not in summary
+    assert list(summary["claims_by_model"]) == ["local"]
+    assert summary["claims"] == summary["claims_by_model"]["local"]
     hexcase = summary["cases"]["impact_hex"]
     assert (hexcase["wall_time"], hexcase["first_rupture"], hexcase["edge_force_peak"]) == (
         12.5, 0.031, 2.5e5)
@@ -149,9 +183,10 @@ def test_claim_1_false(tmp_path):
     assert verdicts(summary) == [("not supported", False), ("supported", True),
                                  ("supported", True)]
     evidence = summary["claims"][0]["evidence"]
-    assert [(e["case"], e["holds"]) for e in evidence] == [
-        ("punch_hex", True), ("punch_compound", False), ("impact_hex", True),
-        ("impact_compound", True)]
+    assert {e["case"]: e["holds"] for e in evidence} == {
+        "punch_hex": True, "punch_compound": False, "impact_hex": True,
+        "impact_compound": True}
+    assert len(evidence) == 4
     assert "   - punch_compound: DT 70 N vs SW 80 N -> does not hold" in text
 
 
@@ -171,37 +206,88 @@ def test_claim_3_false(tmp_path):
 
 
 def test_missing_cases_not_evaluated(tmp_path):
+    """Claims 1 and 2 rest on the one punch with the double twist left; claim 3 has no pair of
+    impacts; the missing cases are those the study expected (--expect), in its order."""
     skip = ("punch_compound", "impact_hex", "impact_compound", "impact_square", "beam",
             "calibration")
-    summary, text = report(make_study(tmp_path, skip=skip))
+    summary, text = report(make_study(tmp_path, skip=skip), expect=STUDY)
+    not_evaluated = claims_module.NOT_EVALUATED
     assert verdicts(summary) == [("supported", True), ("supported", True),
-                                 ("not evaluated (case missing)", None)]
-    assert "impact_hex: not evaluated (case missing)" in summary["claims"][0]["notes"]
-    assert summary["missing"] == ["beam (no beam case)", "calibration (no calib* case)",
-                                  "punch_compound", "impact_hex", "impact_square",
-                                  "impact_compound"]
+                                 (not_evaluated, None)]
+    assert [e["case"] for e in summary["claims"][0]["evidence"]] == ["punch_hex"]
+    assert summary["missing"] == ["beam", "calib_0", "calib_0.05", "punch_compound",
+                                  "impact_hex", "impact_square", "impact_compound"]
     assert "- impact_square: missing" in text
-    assert "**not evaluated (case missing)**" in text
+    assert f"**{not_evaluated}**" in text
+    # without the study's list nothing is missing: the folder holds what it holds
+    summary, _ = report(tmp_path)
+    assert summary["missing"] == []
 
 
 def test_empty_study_evaluates_nothing(tmp_path):
     summary, text = report(tmp_path)
-    assert verdicts(summary) == [("not evaluated (case missing)", None)] * 3
+    assert summary["claims"] == [] and summary["claims_by_model"] == {}
     assert summary["cases"] == {}
     assert "No figures." in text or "## Figures" in text
 
 
-def test_not_implemented_case(tmp_path):
+def test_a_case_that_did_not_end_ok_is_listed_and_not_used(tmp_path):
+    """A failed case (postprocess/record.py's statuses) is listed with its status and error and
+    never used for a claim: without the square impact claim 3 has no pair."""
     make_study(tmp_path, skip=("impact_square",))
-    (tmp_path / "impact_square").mkdir()
-    (tmp_path / "impact_square" / "case.json").write_text('{"status": "not-implemented"}')
+    set_meta(tmp_path / "impact_square", status="failed", error="LIGGGHTS failed: ERROR: x",
+             **FACTS["impact_square"])
+    write_zone(tmp_path / "impact_square", {"rope": (1.0, 1.0)})
     summary, text = report(tmp_path)
-    assert verdicts(summary)[2] == ("not evaluated (case missing)", None)
-    assert summary["claims"][2]["notes"] == ["impact_square: not evaluated (case "
-                                             "not-implemented)"]
-    assert summary["not_implemented"] == ["impact_square"]
-    assert "- impact_square: not implemented" in text
-    assert "| impact_square | impact | unknown | not implemented |" in text
+    assert verdicts(summary)[2] == (claims_module.NOT_EVALUATED, None)
+    assert summary["claims"][2]["evidence"] == []
+    assert "- impact_square: status failed: LIGGGHTS failed: ERROR: x" in text
+    assert "| impact_square | impact | unknown | failed |" in text
+
+
+def test_claims_follow_the_records_not_the_folder_names(tmp_path):
+    """The same study under other folder names gives the same verdicts; a folder named
+    impact_square whose record says it is a hexagonal panel is no square panel for claim 3."""
+    import shutil
+    make_study(tmp_path / "named")
+    for k, name in enumerate(sorted(FACTS)):
+        shutil.copytree(tmp_path / "named" / name, tmp_path / "renamed" / f"case{k}")
+    summary, _ = report(tmp_path / "renamed")
+    assert verdicts(summary) == [("supported", True)] * 3
+    assert len(summary["claims"][2]["evidence"]) == 1
+    set_meta(tmp_path / "named" / "impact_square", panel="hex")
+    summary, _ = report(tmp_path / "named")
+    assert verdicts(summary)[2] == (claims_module.NOT_EVALUATED, None)
+
+
+def test_claims_are_judged_under_each_dissipation_model(tmp_path):
+    """Impacts under bond damping (case.json dissipation 'bond') beside the local-damping ones:
+    each model's impacts are compared among themselves. Here the bond-damped compound panel
+    carries more rope tension than the bond-damped square one: claim 3 holds under local damping
+    and not under bond damping; "claims" are the first model's (local)."""
+    make_study(tmp_path)
+    for net, rope in (("compound", (6e5, 9e3)), ("square", (5e5, 1e4))):
+        folder = tmp_path / f"impact_{net}_bonddamp"
+        peaks = {"rope": rope} if net == "square" else {
+            "DT": (1000.0, 120.0), "SW": (3000.0, 80.0), "rope": rope}
+        write_zone(folder, peaks)
+        write_csv(folder / "block.csv", "time,x,y,z,vx,vy,vz,force",
+                  [(0, 0, 0, 1, 0, 0, -10, 0), (0.1, 0, 0, 0, 0, 0, 0, 7.5e5)])
+        set_meta(folder, **dict(FACTS[f"impact_{net}"], status="ok", dissipation="bond"))
+    summary, text = report(tmp_path)
+    by_model = summary["claims_by_model"]
+    assert list(by_model) == ["local", "bond"]
+    assert summary["claims"] == by_model["local"]
+    assert [(c["verdict"], c["supported"]) for c in by_model["local"]] == [("supported", True)] * 3
+    assert (by_model["bond"][2]["verdict"], by_model["bond"][2]["supported"]) == \
+        ("not supported", False)
+    assert by_model["bond"][2]["evidence"][0]["compound"] == "impact_compound_bonddamp"
+    assert by_model["bond"][2]["evidence"][0]["square"] == "impact_square_bonddamp"
+    # claims 1 and 2 under bond damping: the punches and the bond-damped compound impact
+    assert {e["case"] for e in by_model["bond"][0]["evidence"]} == {
+        "punch_hex", "punch_compound", "impact_compound_bonddamp"}
+    assert f"## The paper's claims under {claims_module.MODELS['bond']}" in text
+    assert f"## The paper's claims under {claims_module.MODELS['local']}" in text
 
 
 def test_unreadable_case_is_reported_not_used(tmp_path):
@@ -209,7 +295,7 @@ def test_unreadable_case_is_reported_not_used(tmp_path):
     (tmp_path / "impact_square" / "zone_forces.csv").write_text(
         "time,displacement,family,total_tension,max_tension,bonds\n0,0,rope,1\n")
     summary, text = report(tmp_path)
-    assert verdicts(summary)[2] == ("not evaluated (case missing)", None)
+    assert verdicts(summary)[2] == (claims_module.NOT_EVALUATED, None)
     errors = summary["cases"]["impact_square"]["errors"]
     assert len(errors) == 1 and errors[0].endswith("zone_forces.csv:2: expected 6 columns, got 4")
     assert "unreadable" in text
@@ -270,17 +356,25 @@ def test_first_rupture_marker_position():
 
 
 def test_quick_cases_are_named_in_the_table_and_the_verdicts(tmp_path):
-    """A verdict drawn from --quick cases says so; the table names each case's mode."""
+    """A verdict drawn from --quick cases says so; the table names each case's mode. Claim 3
+    compares impacts of the same mode (a quick square panel is no match for a full compound
+    one): the quick pair makes it, with the note."""
     root = make_study(tmp_path)
-    (root / "impact_square" / "case.json").write_text(json.dumps({"status": "ok", "quick": True}))
-    (root / "impact_hex" / "case.json").write_text(json.dumps({"status": "ok", "quick": False}))
+    set_meta(root / "impact_square", status="ok", quick=True)
+    set_meta(root / "impact_compound", status="ok", quick=True)
+    set_meta(root / "impact_hex", status="ok", quick=False)
     summary, text = report(root)
     assert summary["cases"]["impact_square"]["mode"] == "quick"
     assert summary["cases"]["impact_hex"]["mode"] == "full"
     assert "| impact_square | impact | quick | ok |" in text
     assert "| impact_hex | impact | full | ok |" in text
-    assert summary["claims"][2]["verdict"] == "supported" + report_module.QUICK_NOTE
-    # claims 1 and 2 rest on the hex cases, none of them quick
+    assert summary["claims"][2]["verdict"] == "supported" + claims_module.QUICK_NOTE
+    # claims 1 and 2 rest on every case with the double twist, the quick compound impact among
+    # them: they say so as well; without it (the full hex impact and the punches) they do not
+    assert [c["verdict"] for c in summary["claims"][:2]] == \
+        ["supported" + claims_module.QUICK_NOTE] * 2
+    set_meta(root / "impact_compound", status="ok", quick=False)
+    summary, _ = report(root)
     assert [c["verdict"] for c in summary["claims"][:2]] == ["supported", "supported"]
 
 

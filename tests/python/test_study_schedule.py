@@ -1,16 +1,21 @@
-"""The study's scheduler (runner/study.run_cases) with stand-in cases that only sleep: the
+"""The study's scheduler (runner/scheduler.run_cases) with stand-in cases that only sleep: the
 longest cases start first, a case starts on the core a punch gives back when its run or twin
 ends (before the punch ends), the impacts of a sequence wait for each other, a case that starts
 from another's pre-load waits for it without holding a core, and a study on one core runs its
 cases one after the other."""
 
+import os
 import threading
 import time
 
 import pytest
 
-from postprocess import liggghts
-from runner import cases, punch, study
+from runner import engine, kinds, scheduler
+from runner.kinds.impact import Impact
+from runner.kinds.punch import Punch
+
+# the real kinds' relative costs (the study starts the longest first)
+WEIGHT = {"punch": Punch.WEIGHT, "impact": Impact.WEIGHT}
 
 
 class FakeCase:
@@ -25,29 +30,39 @@ class FakeCase:
 
 
 class FakeRunner:
-    """Sleeps; a width-2 case (a punch pair) gives one core back half-way."""
-    log, lock = [], threading.Lock()
+    """A kind (runner/kinds/base.CaseKind's interface) that sleeps; a width-2 case (a punch
+    pair) gives one core back half-way; a source of punch.preload_from writes its hand-over
+    restart and sets the event the scheduler gave it."""
+    log, lock, starts_from = [], threading.Lock(), {}
+    finished_file = "x.csv"
 
     def __init__(self, case):
         self.case = case
+        self.width = case.width_
 
     def units(self):
         n = self.case.units_
         return [(self.case.name if k == 0 else f"{self.case.name}_{k + 1}", k) for k in range(n)]
 
-    def width(self):
-        return self.case.width_
+    def weight(self):
+        return WEIGHT[self.case.kind][self.case["panel.net"]]
 
-    def run(self, index, case_dir, study_dir, np_):
+    def record_kind(self):
+        return self.case.kind
+
+    def run(self, index, ctx):
         name = self.units()[index][0]
         self._note("start", name)
+        self.starts_from[name] = ctx.start_from
         time.sleep(0.3)
-        shared = punch.SHARED_PRELOADS.get(name)
-        if shared is not None:       # a source of punch.preload_from: its pre-load is done
+        if ctx.share_event is not None:   # a source of punch.preload_from: its pre-load is done
+            os.makedirs(os.path.join(ctx.case_dir, "run"), exist_ok=True)
+            with open(os.path.join(ctx.case_dir, "run", "preload.restart"), "w") as fh:
+                fh.write("restart\n")
             self._note("preloaded", name)
-            shared.set()
+            ctx.share_event.set()
         if self.case.width_ == 2:
-            liggghts.release_cores(liggghts.current_label(), 1)
+            engine.release_cores(engine.current_label(), 1)
             self._note("release", name)
         time.sleep(1.5 if self.case.width_ == 2 else 0.3)   # room for the 0.2 s poll
         self._note("end", name)
@@ -60,10 +75,8 @@ class FakeRunner:
 
 @pytest.fixture
 def fake(monkeypatch):
-    FakeRunner.log = []
-    monkeypatch.setattr(cases, "runner_of", FakeRunner)
-    monkeypatch.setattr(cases, "record_kind", lambda case: case.kind)
-    monkeypatch.setattr(study, "CSV_OF_KIND", {"punch": "x.csv", "impact": "x.csv"})
+    FakeRunner.log, FakeRunner.starts_from = [], {}
+    monkeypatch.setattr(kinds, "of", FakeRunner)
     return FakeRunner
 
 
@@ -76,7 +89,7 @@ def test_longest_first_and_a_released_core_is_used(fake, tmp_path):
               FakeCase("calibration", "punch", "square", width=2),
               FakeCase("punch_compound", "punch", "compound", width=2),
               FakeCase("impact_hex", "impact", "hex")]
-    study.run_cases(loaded, str(tmp_path), quick=True, np_=2)
+    scheduler.run_cases(loaded, str(tmp_path), quick=True, np_=2)
     start, release, end = (events(fake.log, w) for w in ("start", "release", "end"))
     order = [name for _, w, name in sorted(fake.log) if w == "start"]
     # the compound punch takes both cores first, whatever the list order
@@ -91,7 +104,7 @@ def test_longest_first_and_a_released_core_is_used(fake, tmp_path):
 def test_a_sequence_waits_and_one_core_runs_one_case_at_a_time(fake, tmp_path):
     loaded = [FakeCase("impact_compound", "impact", "compound", units=2),
               FakeCase("impact_hex", "impact", "hex")]
-    study.run_cases(loaded, str(tmp_path), quick=True, np_=1)
+    scheduler.run_cases(loaded, str(tmp_path), quick=True, np_=1)
     spans = sorted((events(fake.log, "start")[n], events(fake.log, "end")[n]) for n in
                    ("impact_compound", "impact_compound_2", "impact_hex"))
     for (s1, e1), (s2, _) in zip(spans, spans[1:]):
@@ -103,17 +116,22 @@ def test_a_sequence_waits_and_one_core_runs_one_case_at_a_time(fake, tmp_path):
 def test_a_case_from_anothers_preload_waits_for_it_without_a_core(fake, tmp_path):
     """punch.preload_from: the rope case starts once the compound punch's pre-load is written,
     not before and not only at the punch's end; while it waits it holds no core (on 2 cores
-    the impact starts beside the compound punch)."""
+    the impact starts beside the compound punch). It starts from the source's restart, which
+    the study removes at its end (the hand-over is no output)."""
     for np_ in (2, 3):
-        FakeRunner.log = []
+        FakeRunner.log, FakeRunner.starts_from = [], {}
         rope = FakeCase("punch_compound_rope", "punch", "compound")
         rope.values["punch.preload_from"] = "punch_compound"
         loaded = [FakeCase("punch_compound", "punch", "compound"), rope,
                   FakeCase("impact_hex", "impact", "hex")]
-        study.run_cases(loaded, str(tmp_path / str(np_)), quick=True, np_=np_)
+        out = tmp_path / str(np_)
+        scheduler.run_cases(loaded, str(out), quick=True, np_=np_)
         start, end = events(fake.log, "start"), events(fake.log, "end")
         ready = events(fake.log, "preloaded")["punch_compound"]
         assert start["impact_hex"] < ready <= start["punch_compound_rope"]
         if np_ == 3:       # a free core: it starts at the pre-load, not at the punch's end
             assert start["punch_compound_rope"] < end["punch_compound"]
-        assert not punch.SHARED_PRELOADS          # the study's hand-over registry is emptied
+        restart = out / "punch_compound" / "run" / "preload.restart"
+        assert fake.starts_from["punch_compound_rope"] == str(restart)
+        assert fake.starts_from["punch_compound"] is None and fake.starts_from["impact_hex"] is None
+        assert not restart.exists()               # the study's hand-over is removed

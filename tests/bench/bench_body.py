@@ -19,11 +19,11 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))   # the repository's packages
-from postprocess import liggghts  # noqa: E402
-from runner import punch  # noqa: E402
+from runner import INPUTS, api, engine, kinds, materials  # noqa: E402
+from runner.kinds import punch  # noqa: E402
 
 LOOP = re.compile(r"Loop time of ([0-9.eE+-]+) on \d+ procs for (\d+) steps")
-PRELOAD_DONE = "pre-load: centre sag"   # the punch deck's line before the timed phase
+PRELOAD_DONE = punch.PRELOAD_MARKER   # the punch deck's line before the timed phase
 
 
 def loop_times(text, after=None):
@@ -38,16 +38,20 @@ def loop_times(text, after=None):
 def run(panel, full, steps, body_model, out, steps_per_m=None, np_=1):
     """(steps, seconds) of `steps` punch steps after a pre-load (short on the full panel)."""
     platter = "cone" if panel == "square" else "spheroid"
-    setup = punch.Setup(os.path.join(out, "setup"), panel, platter, quick=not full,
-                        body_model=body_model, steps_per_m=steps_per_m)
-    travel = steps * punch.PAPER_SPEED * setup.dt
+    sets = [f'punch.body="{body_model}"'] + \
+        ([f"punch.steps_per_metre={float(steps_per_m)!r}"] if steps_per_m else [])
+    case = api.load(f'kind = "punch"\n[panel]\nnet = "{panel}"\n[punch]\nplatter = "{platter}"\n',
+                    quick=not full, set=sets)
+    setup = punch.Setup(kinds.of(case), os.path.join(out, "setup"),
+                        materials.bending_of(case, out)[0])
+    travel = steps * case["punch.speed"] * setup.dt
     variables, _ = setup.variables(travel=travel, every=1000)
     variables.update(dump_every=10 ** 9, frame_every=10 ** 9)
     if full:
         variables.update(relax_steps=2000, preload_tol=1)
     workdir = os.path.join(out, "run")
-    liggghts.run(liggghts.INPUTS / "punch.in", workdir, variables, np=np_,
-                 total_steps=steps, dt=setup.dt, phase_marker=PRELOAD_DONE)
+    engine.run(INPUTS / "punch.in", workdir, variables, np=np_,
+               total_steps=steps, dt=setup.dt, phase_marker=PRELOAD_DONE)
     with open(os.path.join(workdir, "log.lammps"), errors="replace") as handle:
         return loop_times(handle.read(), PRELOAD_DONE)
 

@@ -279,11 +279,12 @@ def bench_yade_punch(out, travel):
 def bench_ranks(out, steps, repeats=3, ranks=(1, 2)):
     """The 3 m compound panel's punch and impact on 1 and 2 MPI ranks: LIGGGHTS' loop time of
     `steps` steps of the load phase (after a short pre-load or settling, which is not timed).
-    The set-ups are the study's (runner/punch.py, runner/impact.py); the bond dumps are off.
+    The set-ups are the study's (runner/kinds/punch.py, runner/kinds/impact.py); the bond dumps
+    are off.
     The rank counts alternate, `repeats` times, and the best of each is kept: a single run on a
     shared machine moves by about 5 %, as much as the effects measured here."""
-    from postprocess import liggghts as lig
-    from runner import impact
+    from runner import INPUTS, api, engine, kinds, materials
+    from runner.kinds import impact
     res = {"punch": {}, "impact": {}}
 
     def keep(case, np_, n, seconds):
@@ -297,12 +298,15 @@ def bench_ranks(out, steps, repeats=3, ranks=(1, 2)):
                                         str(out / f"ranks_punch_np{np_}"), np_=np_)
             keep("punch", np_, n, seconds)
             folder = out / f"ranks_impact_np{np_}"
-            setup = impact.Setup(str(folder / "setup"), "compound", relax=0.002)
+            case = api.load('kind = "impact"\n[panel]\nnet = "compound"\n',
+                            set=["preload.settle_time=0.002"])
+            setup = impact.Setup(kinds.of(case), str(folder / "setup"), case.impacts[0],
+                                 materials.bending_of(case, str(folder))[0])
             setup.duration, setup.steps = steps * setup.dt, steps     # the first `steps` of the impact
             variables = setup.variables()
             variables.update(dump_every=10 ** 9, frame_every=10 ** 9)
-            lig.run(lig.INPUTS / "impact.in", str(folder / "run"), variables, np=np_,
-                    total_steps=steps, dt=setup.dt, phase_marker=RELEASED)
+            engine.run(INPUTS / "impact.in", str(folder / "run"), variables, np=np_,
+                       total_steps=steps, dt=setup.dt, phase_marker=RELEASED)
             keep("impact", np_, *loop_times((folder / "run" / "log.lammps").read_text(), RELEASED))
     for case in res.values():
         one, two = case[ranks[0]], case[ranks[-1]]

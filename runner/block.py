@@ -39,6 +39,7 @@ class Block:
         self.radius = float(np.linalg.norm(points[:, :2], axis=1).max())
 
     def inertia_variables(self):
+        """The deck variables of the inertia tensor about the centroid (space axes)."""
         i = self.inertia
-        return dict(mass=repr(self.mass), ixx=repr(i[0, 0]), iyy=repr(i[1, 1]), izz=repr(i[2, 2]),
+        return dict(ixx=repr(i[0, 0]), iyy=repr(i[1, 1]), izz=repr(i[2, 2]),
                     ixy=repr(i[0, 1]), ixz=repr(i[0, 2]), iyz=repr(i[1, 2]))

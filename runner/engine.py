@@ -6,6 +6,7 @@ is the kinds' business (runner/kinds/); how it is launched is this module's."""
 import contextlib
 import os
 import re
+import shlex
 import signal
 import subprocess
 import sys
@@ -193,6 +194,8 @@ def run(deck, workdir, variables=None, np=1, total_steps=None, label="", dt=None
         cmd += ["-var", name, str(value)]
     if np > 1:
         cmd = ["mpirun", "-np", str(np)] + cmd
+    # the exact command, so that a run can be repeated by hand (from its folder)
+    (workdir / "command.txt").write_text(" ".join(shlex.quote(c) for c in cmd) + "\n")
     start = time.time()
     if current_label():
         label = f"{current_label()}: {label}"

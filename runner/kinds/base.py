@@ -91,14 +91,25 @@ class CaseKind:
         return {k.rsplit(".", 1)[1]: v for k, v in self.case.values.items()
                 if k.startswith(("materials.", "contact."))}
 
+    def item_variables(self, item, section):
+        """-var values of the keys of one [[section]] entry (an impact) that name a deck
+        variable."""
+        from ..schema import BY_PATH
+        return self._variables((BY_PATH[f"{section}.{name}"], value)
+                               for name, value in item.items())
+
     def key_variables(self, *sections):
         """-var values of every key of these sections (all when none given) that names a deck
         variable: one home for the key -> deck variable step."""
         from ..schema import BY_PATH      # the schema collects the kinds: imported late
+        return self._variables((BY_PATH[path], value) for path, value in self.case.values.items()
+                               if not sections or BY_PATH[path].section in sections)
+
+    @staticmethod
+    def _variables(pairs):
         out = {}
-        for path, value in self.case.values.items():
-            key = BY_PATH[path]
-            if key.var is None or (sections and key.section not in sections):
+        for key, value in pairs:
+            if key.var is None:
                 continue
             names = (key.var,) if isinstance(key.var, str) else key.var
             if len(names) == 1:

@@ -73,11 +73,12 @@ KEYS = (
            "the head) or slide (through a guide; the posts sway)", "doc/wirenet-gen.md",
            choices=("clamp", "slide")),
     _fence("block_mass", "number", 1600.0, "kg", "block mass (1600 kg at 25 m/s: 500 kJ)", EAD,
-           low=1.0, high=1e5, quick=100.0),
+           low=1.0, high=1e5, quick=100.0, var="mass"),
     _fence("block_side", "number", 0.865, "m", "side of the truncated cube (corner cut side/3; "
-           "0.865 m: 1600 kg at 2600 kg/m3)", EAD, low=0.05, high=5.0, quick=0.35),
+           "0.865 m: 1600 kg at 2600 kg/m3)", EAD, low=0.05, high=5.0, quick=0.35, var="block_side"),
     _fence("speed", "number", 25.0, "m/s", "block speed against the fence normal, at the middle "
-           "of the middle module", EAD + " (>= 25 m/s)", low=0.1, high=100.0, quick=5.0),
+           "of the middle module", EAD + " (>= 25 m/s)", low=0.1, high=100.0, quick=5.0,
+           var="speed"),
     _fence("duration", "number", 0.8, "s", "simulated time after release", "doc/fence.md",
            low=0.0, low_open=True, high=20.0, quick=0.15),
     _fence("settle_time", "number", 1.0, "s", "settling under gravity (damped) before the block "
@@ -254,8 +255,7 @@ class Setup:
                  relax_steps=self.relax_steps, steps=self.steps, every=self.every,
                  dump_every=self.every, frame_every=self.frame_every, alpha_relax=ALPHA_RELAX,
                  target_x=repr(tx), target_y=repr(ty), target_z=repr(tz), normal_x=repr(nx),
-                 normal_y=repr(ny), normal_z=repr(nz), speed=repr(self.speed),
-                 block_side=repr(self.side), block_cut=repr(self.block.cut),
+                 normal_y=repr(ny), normal_z=repr(nz), block_cut=repr(self.block.cut),
                  quat=" ".join(map(repr, self.quat)),
                  block_half=repr(self.side / 2), gap=GAP, foot_r=repr(max(1.0, self.side)),
                  node_r=repr(self.node_r), rest_steps=self.rest_steps,

@@ -51,9 +51,9 @@ KEYS = (
     _item("stl", "file", "", "", "block STL file (relative to the case file), for block 'stl'; "
           "mass properties of the uniform solid", ""),
     _item("side", "number", 0.45, "m", "truncated cube: side", PAPER, low=0.01, high=20.0),
-    _item("mass", "number", 44.5, "kg", "block mass", PAPER, low=1e-3, high=1e6),
+    _item("mass", "number", 44.5, "kg", "block mass", PAPER, low=1e-3, high=1e6, var="mass"),
     _item("velocity", "vector3", [0.0, 0.0, -10.0], "m/s", "block velocity at release (the panel "
-          "lies in the x-y plane; -z is into it)", PAPER),
+          "lies in the x-y plane; -z is into it)", PAPER, var=("vx0", "vy0", "vz0")),
     _item("point", "vector2", [0.0, 0.0], "m", "where the block starts above the panel: offset "
           "from the panel centre in x, y", PAPER),
     _item("orientation", "quat", [1.0, 0.0, 0.0, 0.0], "", "block orientation, unit quaternion "
@@ -65,7 +65,7 @@ KEYS = (
           "doc/impact.md (\"Time step\")", low=0.0, low_open=True, high=1.0),
     _item("body", "choice", "analytic", "", "analytic: exact truncated cube (fix wirenet/body); "
           "mesh: the STL moved by fix wirenet/rigidmesh", "doc/fix_wirenet_body.md",
-          choices=("analytic", "mesh")),
+          choices=("analytic", "mesh"), var="body_model"),
     Key("output.row_time", "number", 2e-4, "s", "time between rows of impact.csv, block.csv, "
         "energy.csv and momentum.csv", "WireNet (runner/kinds/impact.py)", low=1e-7, high=1.0),
 )
@@ -132,20 +132,19 @@ class Setup:
 
     def variables(self):
         centre = self.panel.centre
-        v = dict(self.kind.key_variables(), **self.block.inertia_variables(),
+        v = dict(self.kind.key_variables(), **self.kind.item_variables(self.item, "impact"),
+                 **self.block.inertia_variables(),
                  data=os.path.abspath(self.data_path), stl=os.path.abspath(self.stl),
                  block_half=repr(self.block.half), gap=GAP,
                  foot_r=repr(0.9 * self.block.side if self.block.side else self.block.radius),
-                 vx0=repr(self.velocity[0]), vy0=repr(self.velocity[1]),
-                 vz0=repr(self.velocity[2]), quat=" ".join(map(repr, self.block.quat)),
+                 quat=" ".join(map(repr, self.block.quat)),
                  centre_x=repr(centre[0]), centre_y=repr(centre[1]),
                  impact_x=repr(centre[0] + self.point[0]), impact_y=repr(centre[1] + self.point[1]),
                  node_r=repr(self.node_r), layers=self.layers, bending=repr(self.bending),
                  alpha_relax=ALPHA_RELAX, dt=repr(self.dt), relax_steps=self.relax_steps,
                  steps=self.steps, every=self.every, dump_every=self.dump_every,
                  zone_r=repr(self.zone_r), out=".",
-                 frame_every=max(int(math.ceil(self.steps / self.case["output.frames"])), 1),
-                 body_model=self.body_model)
+                 frame_every=max(int(math.ceil(self.steps / self.case["output.frames"])), 1))
         if self.restart:
             v.update(net_from="restart", restart=os.path.abspath(self.restart))
         if self.save_net:

@@ -18,8 +18,8 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
-from postprocess import figure4, plots, study, synthetic, vtu  # noqa: E402
-from runner import impact  # noqa: E402
+from postprocess import casefolders, figure4, plots, synthetic, vtu  # noqa: E402
+from runner import api  # noqa: E402
 
 DT = 1e-3
 STEPS = (0, 100, 200, 300)
@@ -191,7 +191,7 @@ def test_series_is_replaced_on_rerun_and_left_alone_on_error(tmp_path):
 def test_figure4_impact_frame_colour_bar_and_broken_bond(tmp_path):
     case_dir = make_case(tmp_path, "impact_grid")
     write_series(case_dir)
-    case = study.load_case(str(case_dir))
+    case = casefolders.load_case(str(case_dir))
     assert figure4.has_series(case)
     data = figure4.load(case)
     assert data["time"] == pytest.approx(STEPS[-1] * DT)        # the block's lowest point
@@ -224,7 +224,7 @@ def test_figure4_impact_frame_colour_bar_and_broken_bond(tmp_path):
 def test_figure4_punch_uses_the_peak_before_the_first_rupture(tmp_path):
     case_dir = make_case(tmp_path, "punch_grid", kind="punch")
     write_series(case_dir)
-    case = study.load_case(str(case_dir))
+    case = casefolders.load_case(str(case_dir))
     assert case.kind == "punch"
     data = figure4.load(case)
     assert data["time"] == pytest.approx(0.2)                  # peak force, before the rupture
@@ -258,7 +258,7 @@ def _built():
 @pytest.mark.skipif(not _built(), reason="build/bin/liggghts not built")
 def test_quick_impact_writes_the_series_and_figure4(tmp_path):
     case_dir = tmp_path / "impact_square"
-    impact.run_case(str(case_dir), "square", quick=True)
+    api.run(api.load('kind = "impact"\n[panel]\nnet = "square"\n', quick=True), str(case_dir))
     data_file = case_dir / "setup" / "panel.data"
     from postprocess.datafile import read_data
     panel = read_data(str(data_file))
@@ -280,8 +280,8 @@ def test_quick_impact_writes_the_series_and_figure4(tmp_path):
     assert [t for t, _ in bodies] == pytest.approx(times)
     low = [meshio.read(p).points[:, 2].min() for _, p in bodies]
     assert min(low) < low[0] - 0.02                          # the block moves down
-    data = figure4.load(study.load_case(str(case_dir)))
-    table = study.load_case(str(case_dir)).tables["block"]
+    data = figure4.load(casefolders.load_case(str(case_dir)))
+    table = casefolders.load_case(str(case_dir)).tables["block"]
     lowest = table["time"][np.argmin(table["z"])]
     assert abs(data["time"] - lowest) <= np.max(np.diff(times)) / 2 + 1e-12
     fig, artists = figure4.draw(data)

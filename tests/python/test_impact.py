@@ -1,4 +1,4 @@
-"""Block impact (inputs/impact.in through runner/impact.py) and the energy tallies it uses.
+"""Block impact (inputs/impact.in through runner/kinds/impact.py) and the energy tallies it uses.
 
 - a single wire bond pulled past yield, released, reloaded and pulled to rupture: the plastic work
   tallied by the wire-law evaluation equals the area under the envelope minus the elastic
@@ -24,8 +24,8 @@ import numpy as np
 import pytest
 
 import lmp
-from runner import impact
-from postprocess.errors import PostprocessError
+from runner import api, casefile, kinds, timestep
+from runner.kinds import impact
 
 SW = ((0.0019230769, 2.5e8), (0.0192, 3.2195e8), (0.05, 3.8292e8), (0.15, 5.1219e8),
       (0.25, 5.5854e8), (0.30, 5.6585e8), (0.35, 5.6585e8))
@@ -207,11 +207,16 @@ run 1
 # ---------------------------------------------------------------------------------------------
 # the quick square impact
 
+def square_case(*sets):
+    """The quick impact on the square panel (the case file's defaults), with --set overrides."""
+    return api.load('kind = "impact"\n[panel]\nnet = "square"\n', quick=True, set=list(sets))
+
+
 @pytest.fixture(scope="module")
 def square(tmp_path_factory):
     os.environ.setdefault("WIRENET_BUILD", str(lmp.BUILD))
     folder = tmp_path_factory.mktemp("impact")
-    facts = impact.run_case(str(folder), "square", quick=True)
+    facts = api.run(square_case(), str(folder), ranks=1)
     (folder / "case.json").write_text(json.dumps(facts, indent=2))
     return folder, facts
 
@@ -260,10 +265,11 @@ def test_outputs(square):
 
 
 def test_bad_impact_arguments(tmp_path):
-    with pytest.raises(PostprocessError, match="unknown panel 'triangle'"):
-        impact.Setup(str(tmp_path), "triangle", quick=True)
-    with pytest.raises(PostprocessError, match="must be > 0"):
-        impact.Setup(str(tmp_path), "square", quick=True, mass=-1)
+    with pytest.raises(casefile.CaseFileError,
+                       match="panel.net: must be one of hex, square, compound, got 'triangle'"):
+        api.load('kind = "impact"\n[panel]\nnet = "triangle"\n', quick=True)
+    with pytest.raises(casefile.CaseFileError, match="impact.mass: must be >= 0.001, got -1"):
+        square_case("impact.mass=-1")
     p = subprocess.run([sys.executable, "-m", "runner", "run", "impact_sqaure", "--out",
                         str(tmp_path / "x")], cwd=lmp.ROOT, capture_output=True, text=True,
                        env=dict(lmp.MPI_ENV, WIRENET_BUILD=str(lmp.BUILD), PATH="/usr/bin:/bin"))
@@ -273,15 +279,21 @@ def test_bad_impact_arguments(tmp_path):
 
 
 def test_time_step_is_the_asked_fraction_of_the_stable_step(tmp_path):
-    """impact.dt_fraction scales the one stable-step estimate (punch.stable_dt) and nothing
-    else: the steps follow the duration; outside (0, 1] is refused with the key's name."""
-    half = impact.Setup(str(tmp_path / "a"), "square", quick=True, dt_fraction=0.5)
-    whole = impact.Setup(str(tmp_path / "b"), "square", quick=True, dt_fraction=1.0)
+    """impact.dt_fraction scales the one stable-step estimate (runner/timestep.py: compute
+    wirenet/timestep's step under a loading body) and nothing else: the steps follow the
+    duration; outside (0, 1] is refused with the key's name."""
+    def setup(folder, fraction):
+        case = square_case(f"impact.dt_fraction={fraction}")
+        return impact.Setup(kinds.of(case), str(folder), case.impacts[0], 0.05)
+    half = setup(tmp_path / "a", 0.5)
+    whole = setup(tmp_path / "b", 1.0)
     assert whole.dt == pytest.approx(2 * half.dt, rel=1e-15)
+    assert half.dt == 0.5 * timestep.read(tmp_path / "a" / "timestep").loaded
     assert whole.steps == math.ceil(whole.duration / whole.dt)
-    with pytest.raises(PostprocessError, match=r"dt_fraction must be in \(0, 1\]"):
-        impact.Setup(str(tmp_path / "c"), "square", quick=True, dt_fraction=1.5)
-    from runner import casefile
+    with pytest.raises(casefile.CaseFileError, match="impact.dt_fraction: must be <= 1, got 1.5"):
+        square_case("impact.dt_fraction=1.5")
+    with pytest.raises(casefile.CaseFileError, match="impact.dt_fraction: must be > 0, got 0"):
+        square_case("impact.dt_fraction=0.0")
     with pytest.raises(casefile.CaseFileError, match="impact.dt_fraction: must be <= 1"):
         casefile.parse('kind = "impact"\n[impact]\ndt_fraction = 1.2\n')
 
@@ -292,7 +304,7 @@ def test_undamped_impact_momentum_is_carried_by_the_supports(tmp_path):
     keeps the energy (no damping, no plasticity): the budget closes with kinetic + elastic +
     potential energy and the contact term."""
     os.environ.setdefault("WIRENET_BUILD", str(lmp.BUILD))
-    facts = impact.run_case(str(tmp_path), "square", quick=True, alpha=0.0, duration=0.03)
+    facts = api.run(square_case("damping.local=0.0", "impact.duration=0.03"), str(tmp_path))
     mom = facts["momentum"]
     assert mom["final"]["jz_damping"] == 0.0
     assert mom["error"] < 0.02, mom

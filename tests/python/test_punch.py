@@ -1,4 +1,4 @@
-"""Quasi-static punch (inputs/punch.in through runner/punch.py) on the quick square panel
+"""Quasi-static punch (inputs/punch.in through runner/kinds/punch.py) on the quick square panel
 (1.2 m, 4 x 4 cells of strand rope, cone centred on the middle crossing), run once for the
 module:
 
@@ -21,15 +21,25 @@ import numpy as np
 import pytest
 
 import lmp
-from runner import punch
+from runner import INPUTS, api, engine, kinds, quasistatic
+from runner.errors import RunError
+from runner.kinds import punch
 from postprocess.datafile import read_data
+
+SQUARE_CONE = 'kind = "punch"\n[panel]\nnet = "square"\n[punch]\nplatter = "cone"\n' \
+    '[materials]\nbending = 0.05\n'
+
+
+def quick_case(text=SQUARE_CONE, *sets):
+    """A checked quick punch case (the case-file text with --set overrides)."""
+    return api.load(text, quick=True, set=list(sets))
 
 
 @pytest.fixture(scope="module")
 def case(tmp_path_factory):
     os.environ.setdefault("WIRENET_BUILD", str(lmp.BUILD))
     folder = tmp_path_factory.mktemp("punch")
-    facts = punch.run_case(str(folder), "square", "cone", bending=0.05, quick=True)
+    facts = api.run(quick_case(), str(folder), ranks=1)
     (folder / "case.json").write_text(json.dumps(facts, indent=2))
     return folder, facts
 
@@ -43,7 +53,7 @@ def test_outputs_have_the_contract_headers(case):
 
 def test_equilibrium_platter_force_balances_the_edge_reactions(case):
     folder, facts = case
-    table = punch.read_punch(str(folder / "run"))
+    table = punch.read_table(str(folder / "run"))
     assert len(table["force"]) > 20
     assert facts["quasi_static"]["equilibrium_error"] < 0.01
     assert facts["quasi_static"]["equilibrium_error_of_current"] < 0.01
@@ -63,9 +73,9 @@ def test_equilibrium_holds_from_finds_the_last_bad_row():
              "weight": np.full(5, 10.0), "force": np.array([0.0, 5.0, 90.0, 190.0, 290.0]),
              "reaction": np.array([10.5, 15.0, 101.5, 200.5, 300.0])}
     # rows 0 (5 %) and 2 (1.5 %) are off by more than 1 %; row 3 is 0.25 % off
-    assert punch.equilibrium_holds_from(table) == pytest.approx(0.3)
-    assert punch.equilibrium_holds_from(table, upto=3) is None
-    assert punch.equilibrium_holds_from(table, tolerance=0.1) == 0.0
+    assert quasistatic.equilibrium_holds_from(table) == pytest.approx(0.3)
+    assert quasistatic.equilibrium_holds_from(table, upto=3) is None
+    assert quasistatic.equilibrium_holds_from(table, tolerance=0.1) == 0.0
 
 
 def test_quasi_static_evidence(case):
@@ -138,16 +148,17 @@ def test_hex_nodes_stay_on_the_spheroid(tmp_path, body_model):
     facet edges); both platter models must pass."""
     import math
     os.environ.setdefault("WIRENET_BUILD", str(lmp.BUILD))
-    setup = punch.Setup(str(tmp_path / "setup"), "hex", "spheroid", quick=True, travel=0.02,
-                        body_model=body_model)
+    case = quick_case('kind = "punch"\n[panel]\nnet = "hex"\n[punch]\nplatter = "spheroid"\n',
+                      "punch.travel=0.02", f'punch.body="{body_model}"')
+    setup = punch.Setup(kinds.of(case), str(tmp_path / "setup"), 0.05)
     variables, every = setup.variables()
-    steps = int(math.ceil(setup.travel / (punch.PAPER_SPEED * setup.dt)))
-    punch.liggghts.run(punch.liggghts.INPUTS / "punch.in", tmp_path / "run", variables,
-                       total_steps=steps, dt=setup.dt, phase_marker="pre-load: centre sag")
-    table = punch.read_punch(str(tmp_path / "run"))
+    steps = int(math.ceil(setup.travel / (case["punch.speed"] * setup.dt)))
+    engine.run(INPUTS / "punch.in", tmp_path / "run", variables, total_steps=steps, dt=setup.dt,
+               phase_marker=punch.PRELOAD_MARKER)
+    table = punch.read_table(str(tmp_path / "run"))
     assert table["displacement"][-1] == pytest.approx(0.02, abs=2e-3)
     assert table["broken"].max() == 0
-    work = punch.work_done(table["displacement"], table["force"])
+    work = quasistatic.work_done(table["displacement"], table["force"])
     loaded = work > 0.01 * work[-1]
     # quick runs are not quasi-static in the first millimetres (KE/W about 0.13 there, 0.03 at
     # the end); a node thrown off makes it about 70
@@ -169,10 +180,9 @@ def test_deck_names_a_bad_ke_every(tmp_path, ke_every):
     """The kinetic-energy sampling interval must divide the output interval; the deck says so
     before it reads anything (LIGGGHTS' own message would be 'Illegal fix ave/time command')."""
     os.environ.setdefault("WIRENET_BUILD", str(lmp.BUILD))
-    with pytest.raises(punch.PostprocessError, match=r"ke_every = %d must be a positive divisor "
+    with pytest.raises(RunError, match=r"ke_every = %d must be a positive divisor "
                        r"of every = 1000" % ke_every):
-        punch.liggghts.run(punch.liggghts.INPUTS / "punch.in", tmp_path,
-                           {"ke_every": ke_every, "every": 1000})
+        engine.run(INPUTS / "punch.in", tmp_path, {"ke_every": ke_every, "every": 1000})
 
 
 def test_speed_control_speeds_up_in_equilibrium_and_keeps_the_curve(case, tmp_path):
@@ -182,15 +192,15 @@ def test_speed_control_speeds_up_in_equilibrium_and_keeps_the_curve(case, tmp_pa
     stays on the constant-speed curve of the module's case within 1 % of its peak. The travel
     of each bond dump (zone_forces.csv) is read off punch.csv, not speed x steps."""
     folder, facts = case
-    fast = punch.run_case(str(tmp_path), "square", "cone", bending=0.05, quick=True,
-                          quasi_static=False, speed_max=4.0, eq_target=0.01)
+    fast = api.run(quick_case(SQUARE_CONE, "punch.quasi_static_check=false", "punch.speed_max=4.0",
+                              "punch.equilibrium_target=0.01"), str(tmp_path), ranks=1)
     control = fast["speed_control"]
     assert control["from_travel"] == pytest.approx(0.05)
     assert 1.5 < control["largest_factor"] <= 4.0 + 1e-9
     assert facts["speed_control"]["largest_factor"] == pytest.approx(1.0, abs=1e-6)
     assert fast["quasi_static"]["equilibrium_error"] < 0.01
-    ref = punch.read_punch(str(folder / "run"))
-    run = punch.read_punch(str(tmp_path / "run"))
+    ref = punch.read_table(str(folder / "run"))
+    run = punch.read_table(str(tmp_path / "run"))
     assert len(run["force"]) < len(ref["force"])          # fewer steps: faster in travel
     steady = run["displacement"] <= ref["displacement"][-1]
     gap = np.abs(run["force"][steady] - np.interp(run["displacement"][steady],
@@ -207,15 +217,15 @@ def test_speed_control_speeds_up_in_equilibrium_and_keeps_the_curve(case, tmp_pa
 
 def test_twin_from_the_runs_preload_is_the_twin_with_its_own(case, tmp_path):
     """The 4x slower twin starts from the restart the run writes after its pre-load
-    (runner/punch.run_pair). The same twin with a pre-load of its own gives the same punch.csv
+    (runner/kinds/punch.Pair). The same twin with a pre-load of its own gives the same punch.csv
     to the last digit: the restart file carries the whole panel (positions, velocities, scaled
     masses, bond history), and the hand-over file is removed afterwards."""
     folder, _ = case
-    setup = punch.Setup(str(tmp_path / "setup"), "square", "cone", 0.05, True)
-    travel = setup.travel        # a quick twin runs the whole travel (runner/punch.run_pair)
-    variables, _ = setup.variables(punch.SLOW_FACTOR, stop_broken=1, travel=travel,
+    setup = punch.Setup(kinds.of(quick_case()), str(tmp_path / "setup"), 0.05)
+    travel = setup.travel        # a quick twin runs the whole travel (runner/kinds/punch.Pair)
+    variables, _ = setup.variables(quasistatic.SLOW_FACTOR, stop_broken=1, travel=travel,
                                    controlled=False)
-    punch.liggghts.run(punch.liggghts.INPUTS / "punch.in", str(tmp_path / "slow"), variables)
+    engine.run(INPUTS / "punch.in", str(tmp_path / "slow"), variables)
     own = (tmp_path / "slow" / "punch.csv").read_text()
     shared = (folder / "slow" / "punch.csv").read_text()
     assert len(own.splitlines()) > 10

@@ -184,13 +184,14 @@ def test_help_per_subcommand(command, capsys):
 
 
 def test_quiet_run_of_a_mesh_deck(tmp_path):
-    """liggghts.run without progress output on a deck that reads an STL mesh: LIGGGHTS 3.8's STL
+    """engine.run without progress output on a deck that reads an STL mesh: LIGGGHTS 3.8's STL
     reader prints to the screen unchecked, so a run with '-screen none' crashed (segfault)."""
     import lmp
-    from postprocess import liggghts
+    from runner import engine
+    from runner.generator import generate
     os.environ.setdefault("WIRENET_BUILD", str(lmp.BUILD))
     stl = tmp_path / "cone.stl"
-    liggghts.generate("shape cone", stl, "--resolution", 16)
+    generate("shape cone", stl, "--resolution", 16)
     deck = tmp_path / "in.mesh"
     deck.write_text(f"""units si
 atom_style granular
@@ -201,7 +202,7 @@ create_box 1 box
 fix m all mesh/surface file {stl} type 1
 run 0
 """)
-    liggghts.run(deck, tmp_path / "run")
+    engine.run(deck, tmp_path / "run")
     assert "Reading STL file" in (tmp_path / "run" / "screen.txt").read_text()
 
 

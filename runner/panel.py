@@ -55,6 +55,7 @@ class Panel:
         self.data_path = generate(net, prefix, "--width", case["panel.width"], "--height",
                                   case["panel.height"], *generator_options(case, net), *extra)
         self.json_path = prefix + ".json"
+        self.types_path = prefix + ".types.in"    # the type numbers by name (a deck include)
         self.meta = read_json(self.json_path)
         self.data = read_data(self.data_path)
         self.layers = 2 if self.meta.get("kind") == "compound" else 1

@@ -45,6 +45,7 @@ def of_panel(panel, variables, workdir):
     materials of the case's deck variables: inputs/timestep.in, one rank."""
     probe = os.path.join(workdir, "timestep")
     engine.run(INPUTS / "timestep.in", probe,
-               dict(variables, data=os.path.abspath(panel.data_path), layers=panel.layers),
+               dict(variables, data=os.path.abspath(panel.data_path),
+                    types=os.path.abspath(panel.types_path), layers=panel.layers),
                label="stable step")
     return read(probe)

@@ -23,7 +23,8 @@ namespace {
 const char* kUsage =
     "usage: wirenet-gen hex|square|compound|beam|fence [options] --out PREFIX\n"
     "       wirenet-gen shape spheroid|cone|truncated-cube [options] --out FILE.stl\n"
-    "Panels write PREFIX.data (LIGGGHTS read_data) and PREFIX.json (metadata), a fence also\n"
+    "Panels write PREFIX.data (LIGGGHTS read_data), PREFIX.json (metadata) and PREFIX.types.in\n"
+    "(the type numbers by name, a deck include), a fence also\n"
     "PREFIX.shackles; "
     "shapes write FILE.stl (ASCII) and FILE.json. `wirenet-gen SUB --help` lists the options.\n"
     "See doc/wirenet-gen.md.\n";
@@ -161,7 +162,7 @@ void checkModel(const Options& o, const NetModel& m, const Box& box) {
 }
 
 // --out is a file prefix and every PREFIX.EXT can be written, before anything is built.
-void checkPrefix(const std::string& out, const std::vector<std::string>& extensions = {".data", ".json"}) {
+void checkPrefix(const std::string& out, const std::vector<std::string>& extensions = {".data", ".json", ".types.in"}) {
     if (!out.empty() && out.back() == '/')
         throw UsageError("--out must be a file prefix, not a folder (got " + out + ")");
     std::vector<std::string> targets;
@@ -268,7 +269,7 @@ void finishPanel(const std::string& sub, const Options& o, const NetModel& m, Ne
     d.box = panelBox(o, m);
     checkModel(o, m, d.box);
     MeshWriter(m, d).write(out);
-    std::cout << summary(sub, m, d) << "\n  -> " << out << ".data, " << out << ".json\n";
+    std::cout << summary(sub, m, d) << "\n  -> " << out << ".data, " << out << ".json, " << out << ".types.in\n";
 }
 
 int runHex(const std::vector<std::string>& args) {
@@ -279,7 +280,7 @@ int runHex(const std::vector<std::string>& args) {
     addHexOptions(o, "");
     addBox(o, 0.2, -2.0, 1.0, "");
     addMaxNodes(o);
-    o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json)");
+    o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json, PREFIX.types.in)");
     if (!o.parse(args)) { std::cout << o.help(); return 0; }
     checkPrefix(requireOut(o));
     const HexParams p = onPanel(hexParams(o, ""), o);
@@ -299,7 +300,7 @@ int runSquare(const std::vector<std::string>& args) {
     addSquareOptions(o, "");
     addBox(o, 0.2, -2.0, 1.0, "");
     addMaxNodes(o);
-    o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json)");
+    o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json, PREFIX.types.in)");
     if (!o.parse(args)) { std::cout << o.help(); return 0; }
     checkPrefix(requireOut(o));
     const SquareParams p = onPanel(squareParams(o, ""), o);
@@ -321,7 +322,7 @@ int runCompound(const std::vector<std::string>& args) {
     o.addInt("ties", 0, 0, "tie every k-th interior crossing (in x and y) to the nearest hex node; 0 = none");
     addBox(o, 0.2, -2.0, 1.0, "");
     addMaxNodes(o);
-    o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json)");
+    o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json, PREFIX.types.in)");
     if (!o.parse(args)) { std::cout << o.help(); return 0; }
     checkPrefix(requireOut(o));
     CompoundParams p;
@@ -353,7 +354,7 @@ void addBeamOptions(Options& o) {
     o.addNumber("density", d.density, "kg/m3", "density of the cylinder, lumped to the nodes");
     addBox(o, 0.1, 0, 0, "-length");
     addMaxNodes(o);
-    o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json)");
+    o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json, PREFIX.types.in)");
 }
 
 BeamParams beamParams(const Options& o) {
@@ -393,7 +394,7 @@ int runBeam(const std::vector<std::string>& args) {
     d.box = beamBox(o, p);
     checkModel(o, m, d.box);
     MeshWriter(m, d).write(out);
-    std::cout << summary("beam", m, d) << "\n  -> " << out << ".data, " << out << ".json\n";
+    std::cout << summary("beam", m, d) << "\n  -> " << out << ".data, " << out << ".json, " << out << ".types.in\n";
     return 0;
 }
 
@@ -439,7 +440,7 @@ void addFenceOptions(Options& o) {
     o.addNumber("margin", 1.0, "m", "box margin beyond the nodes in x, +y and z");
     o.addNumber("ylo", -10.0, "m", "box lower y bound (the net deflects towards -y)", Bound::Any);
     addMaxNodes(o);
-    o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json, PREFIX.shackles)");
+    o.addString("out", "required", "output prefix (writes PREFIX.data, PREFIX.json, PREFIX.types.in, PREFIX.shackles)");
 }
 
 // The fence's options as given; FenceParams::validateLayout() and validateRopes() check them.
@@ -494,7 +495,7 @@ int runFence(const std::vector<std::string>& args) {
     addFenceOptions(o);
     if (!o.parse(args)) { std::cout << o.help(); return 0; }
     const std::string out = requireOut(o);
-    checkPrefix(out, {".data", ".json", ".shackles"});
+    checkPrefix(out, {".data", ".json", ".types.in", ".shackles"});
     const FenceParams p = fenceParams(o);
     p.validateLayout(o.valueText());
     checkSize(o, Fence::estimateNodes(p));
@@ -506,14 +507,15 @@ int runFence(const std::vector<std::string>& args) {
     checkModel(o, f.model, d.box);
 
     MeshWriter writer(f.model, d);
-    AtomicFile data(out + ".data"), meta(out + ".json"), sh(out + ".shackles");
+    AtomicFile data(out + ".data"), meta(out + ".json"), types(out + ".types.in"), sh(out + ".shackles");
     writer.writeData(data.stream());
     meta.stream() << writer.metadata().dump(2) << "\n";
+    writer.writeTypes(types.stream());
     writeShackles(sh.stream(), f, d.command);
-    AtomicFile::commitAll({&data, &meta, &sh});
+    AtomicFile::commitAll({&data, &meta, &types, &sh});
     std::cout << summary("fence", f.model, d) << "\n  " << f.shackles.size() << " shackles on " << f.ropes.size()
               << " ropes, " << f.anchors.size() << " anchors\n  -> " << out << ".data, " << out << ".json, "
-              << out << ".shackles\n";
+              << out << ".types.in, " << out << ".shackles\n";
     return 0;
 }
 

@@ -41,6 +41,16 @@ void MeshWriter::writeData(std::ostream& os) const {
     for (const auto& b : model_.bonds) os << id++ << " " << b.type << " " << b.a + 1 << " " << b.b + 1 << "\n";
 }
 
+void MeshWriter::writeTypes(std::ostream& os) const {
+    os << "# WireNet deck include from wirenet-gen " << desc_.command.substr(0, 160) << "\n"
+       << "# The type numbers of its data file by name (doc/file_formats.md): decks name types as\n"
+       << "# ${atom_NAME} and ${bond_NAME}, the generator alone numbers them.\n";
+    for (const auto& kv : desc_.atomTypeNames)
+        os << "variable        atom_" << kv.second << " index " << kv.first << "\n";
+    for (const auto& kv : desc_.bondTypeNames)
+        os << "variable        bond_" << kv.second << " index " << kv.first << "\n";
+}
+
 static Json countsByType(const std::map<int, long>& counts, int ntypes) {
     Json j = Json::object();
     for (int t = 1; t <= ntypes; ++t) {
@@ -87,11 +97,12 @@ Json MeshWriter::metadata() const {
 }
 
 void MeshWriter::write(const std::string& prefix) const {
-    AtomicFile::checkTargets({prefix + ".data", prefix + ".json"});
-    AtomicFile data(prefix + ".data"), meta(prefix + ".json");
+    AtomicFile::checkTargets({prefix + ".data", prefix + ".json", prefix + ".types.in"});
+    AtomicFile data(prefix + ".data"), meta(prefix + ".json"), types(prefix + ".types.in");
     writeData(data.stream());
     meta.stream() << metadata().dump(2) << "\n";
-    AtomicFile::commitAll({&data, &meta});
+    writeTypes(types.stream());
+    AtomicFile::commitAll({&data, &meta, &types});
 }
 
 }  // namespace wirenet

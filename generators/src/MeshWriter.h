@@ -1,5 +1,6 @@
-// Writes a NetModel as PREFIX.data (LIGGGHTS read_data) and PREFIX.json (metadata), exactly as
-// doc/file_formats.md fixes them. Both files appear together or not at all.
+// Writes a NetModel as PREFIX.data (LIGGGHTS read_data), PREFIX.json (metadata) and PREFIX.types.in
+// (the type numbers by name, a deck include), exactly as doc/file_formats.md fixes them. The files
+// appear together or not at all.
 #pragma once
 #include <string>
 
@@ -13,6 +14,9 @@ public:
 
     void write(const std::string& prefix) const;
     void writeData(std::ostream& os) const;
+    // `variable atom_NAME index T` / `variable bond_NAME index T` for every named type: the decks
+    // name types, the generator alone numbers them
+    void writeTypes(std::ostream& os) const;
     Json metadata() const;
 
 private:

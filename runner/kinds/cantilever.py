@@ -64,7 +64,7 @@ def cantilever(workdir, elements, load=LOAD, bending=1.0, shear="eb", node_diame
     # a third of the axial wave crossing time of an element keeps Verlet well inside stability
     dt = dt or 0.35 * (L / elements) / math.sqrt(BEAM["young"] / rho)
     steps = int(t_end * math.sqrt(1.0 / bending) / dt)
-    variables = dict(data=data, P=load, d=d, E=BEAM["young"], nu=BEAM["nu"], bending=bending,
+    variables = dict(data=data, types=data[:-len(".data")] + ".types.in", P=load, d=d, E=BEAM["young"], nu=BEAM["nu"], bending=bending,
                      shear=shear, dt=dt, steps=steps, gamma=2 * omega1 * line_mass * L / elements,
                      thermo_every=max(steps // 20, 1), out=f"final{elements}.dump")
     engine.run(INPUTS / "cantilever.in", workdir, variables, np=np_, total_steps=steps,

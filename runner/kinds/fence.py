@@ -191,6 +191,7 @@ class Setup:
             "--height", c["fence.height"], "--net", net, "--post-tilt", c["fence.post_tilt"],
             "--head-guides", c["fence.head_guides"], *generator_options(c, "compound"))
         self.json_path, self.shackles = prefix + ".json", prefix + ".shackles"
+        self.types_path = prefix + ".types.in"
         self.meta = read_json(self.json_path)
         self.layers = 2 if net == "compound" else 1
         # the impacts' block, turned as released (the frames draw its STL from that pose)
@@ -230,7 +231,7 @@ class Setup:
         section = self.meta["posts"]["section"]
         ropes = self.meta["ropes"]
         v = dict(self.kind.key_variables(), data=os.path.abspath(self.data_path),
-                 shackles=os.path.abspath(self.shackles),
+                 types=os.path.abspath(self.types_path), shackles=os.path.abspath(self.shackles),
                  support_d=repr(ropes["support"]["diameter"]),
                  upslope_d=repr(ropes["upslope"]["diameter"]), post_A=repr(section["A"]),
                  post_Iy=repr(section["Iy"]), post_Iz=repr(section["Iz"]),

@@ -135,7 +135,7 @@ class Setup:
         v = dict(self.kind.key_variables(), **self.kind.item_variables(self.item, "impact"),
                  **self.block.inertia_variables(),
                  data=os.path.abspath(self.data_path), stl=os.path.abspath(self.stl),
-                 block_half=repr(self.block.half), gap=GAP,
+                 types=os.path.abspath(self.panel.types_path), block_half=repr(self.block.half), gap=GAP,
                  foot_r=repr(0.9 * self.block.side if self.block.side else self.block.radius),
                  quat=" ".join(map(repr, self.block.quat)),
                  centre_x=repr(centre[0]), centre_y=repr(centre[1]),

@@ -263,7 +263,7 @@ class Setup:
         travel = travel or self.travel
         v = dict(self.kind.key_variables(),
                  data=os.path.abspath(self.data_path), stl=os.path.abspath(self.stl),
-                 platter_h=repr(self.shape["height"]), centre_id=self.centre_id,
+                 types=os.path.abspath(self.panel.types_path), platter_h=repr(self.shape["height"]), centre_id=self.centre_id,
                  centre_r=repr(self.centre_r), layers=self.layers, bending=repr(self.bending),
                  mass_scale=repr(self.mass_scale), dt=repr(self.dt),
                  dt_preload=repr(self.dt_preload), relax_steps=self.relax_steps,

@@ -16,27 +16,32 @@ import numpy as np
 import pytest
 
 import lmp
-from runner import punch
+from runner import INPUTS, api, engine, kinds, quasistatic
+from runner.kinds import punch
 
 FINE = 192          # segments around the axis of the fine STL
 DEPTH = 0.06        # the STL keeps the facets within this distance of the apex [m]
 
 
-def run(workdir, panel, platter, body_model, travel=None, **options):
+def run(workdir, panel, platter, body_model, travel=None, bending=0.05, **options):
+    """One quick punch run (no twin) of the case's set-up; ``options``: the STL's resolution
+    and stl_depth (punch.Setup)."""
     os.environ.setdefault("WIRENET_BUILD", str(lmp.BUILD))
-    setup = punch.Setup(str(workdir / "setup"), panel, platter, quick=True, travel=travel,
-                        body_model=body_model, **options)
+    sets = [f'punch.body="{body_model}"'] + ([f"punch.travel={travel!r}"] if travel else [])
+    case = api.load(f'kind = "punch"\n[panel]\nnet = "{panel}"\n[punch]\nplatter = "{platter}"\n',
+                    quick=True, set=sets)
+    setup = punch.Setup(kinds.of(case), str(workdir / "setup"), bending, **options)
     variables, _ = setup.variables()
-    steps = int(math.ceil(setup.travel / (punch.PAPER_SPEED * setup.dt)))
-    punch.liggghts.run(punch.liggghts.INPUTS / "punch.in", workdir / "run", variables,
-                       total_steps=steps, dt=setup.dt, phase_marker="pre-load: centre sag")
-    return punch.read_punch(str(workdir / "run"))
+    steps = int(math.ceil(setup.travel / (case["punch.speed"] * setup.dt)))
+    engine.run(INPUTS / "punch.in", workdir / "run", variables, total_steps=steps, dt=setup.dt,
+               phase_marker=punch.PRELOAD_MARKER)
+    return punch.read_table(str(workdir / "run"))
 
 
 def agreement(exact, mesh):
     """Largest |F_exact - F_mesh| before the first rupture of either, relative to the exact
     body's peak force there, on the exact body's displacements."""
-    n = min(punch.rupture_limit(exact), punch.rupture_limit(mesh))
+    n = min(quasistatic.rupture_limit(exact), quasistatic.rupture_limit(mesh))
     d = exact["displacement"][:n]
     f = exact["force"][:n]
     g = np.interp(d, mesh["displacement"][:n], mesh["force"][:n])

@@ -14,17 +14,22 @@ import numpy as np
 import pytest
 
 import lmp
-from postprocess import study
-from runner import punch
-from postprocess.errors import PostprocessError
-from postprocess.model import ROPE, ROPE_STRENGTH
+from postprocess import casefolders
+from runner import api
+from runner.errors import RunError
+from runner.kinds import punch
+from runner.materials import MATERIALS, rope_strength
+
+ROPE_STRENGTH = rope_strength()           # (SIGMA_T, TAU_C) of materials.in
+ROPE_TEXT = 'kind = "punch"\n[panel]\nnet = "square"\n[punch]\nplatter = "cone"\n' \
+    '[materials]\nrope_strength = true\n'
 
 
 @pytest.fixture(scope="module")
 def rope_case(tmp_path_factory):
     os.environ.setdefault("WIRENET_BUILD", str(lmp.BUILD))
     folder = tmp_path_factory.mktemp("punch_rope")
-    facts = punch.run_case(str(folder), "square", "cone", quick=True, rope_strength=True)
+    facts = api.run(api.load(ROPE_TEXT, quick=True), str(folder), ranks=1)
     (folder / "case.json").write_text(json.dumps(facts, indent=2))
     return folder, facts
 
@@ -39,8 +44,8 @@ def test_the_punch_ends_by_rope_failure(rope_case):
 
 def test_rope_tension_before_the_break_is_below_the_tensile_limit(rope_case):
     folder, facts = rope_case
-    limit = ROPE_STRENGTH[0] * math.pi * ROPE["rope_d"] ** 2 / 4      # SIGMA_T A = 63 kN
-    zone = study.load_case(str(folder)).zone()["rope"]
+    limit = ROPE_STRENGTH[0] * math.pi * MATERIALS["rope_d"] ** 2 / 4      # SIGMA_T A = 63 kN
+    zone = casefolders.load_case(str(folder)).zone()["rope"]
     before = zone["displacement"] < facts["first_rope_rupture"]["displacement"]
     peak = float(np.max(zone["max"][before]))
     assert peak <= limit * 1.0001, (peak, limit)
@@ -53,8 +58,9 @@ def test_stop_drop_ends_the_run_where_the_net_has_failed_and_changes_nothing_bef
     row after a rupture whose force is below half the peak so far; there it stops (the run
     without it goes on to the end of the travel)."""
     folder, facts = rope_case
-    drop = punch.run_case(str(tmp_path), "square", "cone", quick=True, rope_strength=True,
-                          quasi_static=False, stop_drop=0.5)
+    drop = api.run(api.load(ROPE_TEXT, quick=True, set=["punch.quasi_static_check=false",
+                                                        "punch.stop_drop=0.5"]),
+                   str(tmp_path), ranks=1)
     whole = (folder / "run" / "punch.csv").read_text().splitlines()
     part = (tmp_path / "run" / "punch.csv").read_text().splitlines()
     assert len(part) < len(whole) and whole[:len(part)] == part
@@ -78,7 +84,7 @@ def test_the_drop_line_is_read_or_refused(tmp_path):
         "punch: ended by the drop: force 4.5 N below 0.5 of the peak 10 N at 0.25 m\n")
     assert punch.drop_end(str(tmp_path)) == dict(displacement=0.25, force=4.5, peak_force=10.0)
     (tmp_path / "log.lammps").write_text("punch: ended by the drop: force x N\n")
-    with pytest.raises(PostprocessError, match="log.lammps: unreadable line 'punch: ended by"):
+    with pytest.raises(RunError, match="log.lammps: unreadable line 'punch: ended by"):
         punch.drop_end(str(tmp_path))
 
 
@@ -154,7 +160,7 @@ def test_preload_from_a_case_that_differs_before_the_punch_is_refused(tmp_path):
 def test_preload_from_a_panel_where_ropes_fail_at_once_is_refused(tmp_path):
     """Rope strength may differ from the source's (it acts only through failures), but a rope
     that fails at once on the shared panel would have failed in the case's own pre-load: the
-    case stops with one line (runner/punch.check_preload_bonds)."""
+    case stops with one line (runner/kinds/punch.check_preload_bonds)."""
     (tmp_path / "a.toml").write_text(CASE_A)
     (tmp_path / "b.toml").write_text(CASE_B.replace("rope_strength = true",
                                                     "rope_strength = true\nrope_sigma_t = 1e3"))

@@ -24,7 +24,7 @@ import numpy as np
 from .csvio import read_csv
 from .errors import PostprocessError
 from .output import Outputs, json_text
-from .plots import check_prefix
+from .canvas import check_prefix
 
 F0 = 1e-3
 
@@ -149,8 +149,8 @@ def calibrate(measured_path, case_dirs, displacement_column="displacement",
 
 
 def plot(result, family, measured, scan, prefix, outputs=None):
-    from .plots import _pyplot, force_scale, save
-    plt = _pyplot()
+    from .canvas import force_scale, pyplot, save
+    plt = pyplot()
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.5))
     scale, unit = force_scale([measured] + list(family.curves))
     for fr, curve in zip(family.fractions, family.curves):

@@ -155,8 +155,8 @@ def draw(data):
     colorbar, body)."""
     from matplotlib import cm, colors
     from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
-    from .plots import _pyplot
-    plt = _pyplot()
+    from .canvas import pyplot
+    plt = pyplot()
     points, cells = data["points"], data["cells"]
     broken, tension = data["broken"], data["tension"]
     segments = points[cells]
@@ -210,7 +210,7 @@ def draw(data):
 
 def figure_case(case, prefix, outputs=None):
     """Figure 4 of a casefolders.Case into PREFIX.png and PREFIX.svg; returns the paths."""
-    from .plots import save
+    from .canvas import save
     fig, _ = draw(load(case))
     return save(fig, prefix, outputs)
 

@@ -7,8 +7,10 @@ import numpy as np
 
 from . import casefolders
 from .csvio import read_csv
-from .errors import PostprocessError
 from .output import Outputs
+from .summary import case_summary
+from .errors import PostprocessError
+from .canvas import check_prefix, force_scale, pyplot, save  # noqa: F401 (check_prefix: the CLI's)
 
 FAMILY_COLOURS = {"DT": "tab:blue", "SW": "tab:orange", "selvedge": "tab:green",
                   "rope": "tab:red", "beam": "tab:purple"}
@@ -39,65 +41,9 @@ def _figure_cases(name, nets, summaries):
     return []
 
 
-def _pyplot():
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
-
-
-def force_scale(values):
-    """(divisor, unit) so that the largest |force| reads in N, kN or MN."""
-    largest = max((float(np.max(np.abs(v))) for v in values if np.size(v)), default=0.0)
-    if largest >= 1e6:
-        return 1e6, "MN"
-    if largest >= 1e3:
-        return 1e3, "kN"
-    return 1.0, "N"
-
-
-def check_prefix(prefix, option="--out"):
-    """PostprocessError unless ``prefix`` names files (PREFIX.png, ...), not a folder."""
-    if not os.path.basename(str(prefix)):
-        raise PostprocessError(f"argument {option}: expected a file prefix such as "
-                               f"DIR/figure, got '{prefix}'")
-    for ext in ("png", "svg", "json"):
-        if os.path.isdir(f"{prefix}.{ext}"):
-            raise PostprocessError(f"{prefix}.{ext}: is a directory (an output file was "
-                                   f"expected)")
-
-
-def save(fig, prefix, outputs=None):
-    """Save PREFIX.png and PREFIX.svg, both or neither; return both paths.
-
-    With ``outputs`` (an output.Outputs) the files are committed with the other outputs of the
-    caller; without, at once."""
-    own = outputs is None
-    outputs = Outputs() if own else outputs
-    paths = []
-    try:
-        for ext in ("png", "svg"):
-            path = f"{prefix}.{ext}"
-            tmp = outputs.file(path, "." + ext)
-            try:
-                fig.savefig(tmp, format=ext, dpi=150)
-            except OSError as exc:
-                raise PostprocessError(f"{path}: cannot write: {exc.strerror or exc}") from None
-            paths.append(path)
-        if own:
-            outputs.commit()
-    except BaseException:
-        if own:
-            outputs.abort()
-        raise
-    finally:
-        _pyplot().close(fig)
-    return paths
-
-
 def figure_beam(beam, prefix, line=None, outputs=None):
     """Figure 1: deflection (line, or tip deflection vs load) and NRMSE vs elements."""
-    plt = _pyplot()
+    plt = pyplot()
     fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4), layout="constrained")
     elements = beam["elements"]
     if line is not None:
@@ -159,7 +105,7 @@ def relative_to_first(curves, floor=0.002):
 def figure_calibration(curves, prefix, outputs=None):
     """Figure 2: (a) platter force vs displacement, one curve per (label, displacement, force);
     (b) with several curves, each one's difference to the first in % (they nearly overlap)."""
-    plt = _pyplot()
+    plt = pyplot()
     several = len(curves) > 1
     fig, axes = plt.subplots(1, 2 if several else 1, figsize=(11 if several else 6, 4.5),
                              layout="constrained", squeeze=False)
@@ -205,7 +151,7 @@ def figure_zone(series, prefix, x="time", families=None, title=None, ruptures=No
     ``ruptures``: {label: x of the case's first rupture}, drawn as a grey vertical line in the
     case's line style (where the mesh starts to tear, the curves stop being quasi-static).
     """
-    plt = _pyplot()
+    plt = pyplot()
     families = _families_to_plot(series, families)
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.5), layout="constrained")
     for panel, key, name in ((axes[0], "max", "maximum"), (axes[1], "total", "total")):
@@ -241,7 +187,7 @@ FENCE_ENERGY = (("ke_block", "block kinetic"), ("ke_net", "fence kinetic"),
 def figure_fence(case_dir, prefix, title=None, outputs=None):
     """A fence impact (runner/fence.py): (a) the window-mean reaction of every anchor and post
     base (supports.csv), (b) where the energy went (energy.csv; gravity terms left out)."""
-    plt = _pyplot()
+    plt = pyplot()
     supports = read_csv(os.path.join(case_dir, "supports.csv"), required=("time",))
     energy = read_csv(os.path.join(case_dir, "energy.csv"),
                       required=("time",) + tuple(k for k, _ in FENCE_ENERGY))
@@ -285,18 +231,20 @@ def _case_label(path, labels, index):
     return os.path.basename(os.path.dirname(os.path.abspath(path))) or path
 
 
-def study_figures(directory, cases=None, outputs=None):
+def study_figures(directory, cases=None, outputs=None, summaries=None):
     """Every figure the case folders allow, in DIR/figures, all or none; returns
     {figure: [paths]}. With ``outputs`` (output.Outputs) the figures are committed with the
     caller's other outputs (e.g. report.md and summary.json)."""
     cases = casefolders.discover(directory) if cases is None else cases
+    if summaries is None:
+        summaries = {n: case_summary(c) for n, c in cases.items()}
     if outputs is not None:
-        return _study_figures(directory, cases, outputs)
+        return _study_figures(directory, cases, outputs, summaries)
     with Outputs() as own:
-        return _study_figures(directory, cases, own)
+        return _study_figures(directory, cases, own, summaries)
 
 
-def _study_figures(directory, cases, outputs):
+def _study_figures(directory, cases, outputs, summaries):
     out = os.path.join(directory, "figures")
     written = {}
     beams = [c for c in cases.values() if c.kind == "beam" and c.usable and "beam" in c.tables]
@@ -310,8 +258,6 @@ def _study_figures(directory, cases, outputs):
                    c.tables["platter"]["force"]) for c in calibration]
         written["fig2_calibration"] = figure_calibration(
             curves, os.path.join(out, "fig2_calibration"), outputs)
-    from .report import case_summary
-    summaries = {n: case_summary(c) for n, c in cases.items()}
     for name, (nets, families, x, title) in STUDY_FIGURES.items():
         wanted = _figure_cases(name, nets, summaries)
         series = [(c, cases[c].zone()) for c in wanted

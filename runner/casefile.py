@@ -29,6 +29,7 @@ class Case:
     zones: list = field(default_factory=list)      # one dict name -> value per zone
     quick: bool = False
     stated: frozenset = frozenset()                # the keys the file (or --set) states
+    keys: dict = field(default_factory=dict, repr=False)   # path -> its params.Key (the schema's)
 
     def __getitem__(self, path):
         return self.values[path]
@@ -200,7 +201,8 @@ class Checker:
         zones = []
         if applies(BY_PATH["output.zones.name"], kind):
             zones = self.items("output.zones", kind) or [self.item_defaults("output.zones", kind)]
-        case = Case(self.name, self.path, kind, values, impacts, zones, self.quick, stated)
+        case = Case(self.name, self.path, kind, values, impacts, zones, self.quick, stated,
+                    BY_PATH)
         self.cross_checks(case)
         return case
 

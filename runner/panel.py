@@ -28,11 +28,10 @@ def generator_options(case, net):
     """wirenet-gen options beyond the net and size: only those a case changes from the schema's
     defaults (a node radius of 0 is the generator's own), so that a case with the defaults
     generates the generator's default net."""
-    from .schema import BY_PATH       # the schema collects the kinds, which use this module
     options = []
     for path, by_net in GENERATOR_OPTIONS:
         value, option = case[path], by_net.get(net)
-        if option and value != BY_PATH[path].default and value != 0.0:
+        if option and value != case.keys[path].default and value != 0.0:
             options += [option, value]
     return options
 

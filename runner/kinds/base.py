@@ -94,16 +94,15 @@ class CaseKind:
     def item_variables(self, item, section):
         """-var values of the keys of one [[section]] entry (an impact) that name a deck
         variable."""
-        from ..schema import BY_PATH
-        return self._variables((BY_PATH[f"{section}.{name}"], value)
+        return self._variables((self.case.keys[f"{section}.{name}"], value)
                                for name, value in item.items())
 
     def key_variables(self, *sections):
         """-var values of every key of these sections (all when none given) that names a deck
         variable: one home for the key -> deck variable step."""
-        from ..schema import BY_PATH      # the schema collects the kinds: imported late
-        return self._variables((BY_PATH[path], value) for path, value in self.case.values.items()
-                               if not sections or BY_PATH[path].section in sections)
+        keys = self.case.keys
+        return self._variables((keys[path], value) for path, value in self.case.values.items()
+                               if not sections or keys[path].section in sections)
 
     @staticmethod
     def _variables(pairs):

@@ -150,13 +150,11 @@ def impact_peak_rows(summaries):
 
 # --- the two dissipation models side by side -------------------------------------------------
 
-DISSIPATION_KEYS = ("damping", "bond_damping", "contact", "w_plastic", "e_released")
-
-
 def dissipation_rows(summaries):
     """Per impact case, under each dissipation model the study holds for the same net and
-    block: how the block's energy was taken by its lowest point (fractions of E0), peak block
-    and support forces, braking distance and the peak zone tension per family."""
+    block: the energy each mechanism took by the impact's end (J and fractions of E0), closure,
+    momentum, peak block and support forces, braking distance and the peak zone tension per
+    family."""
     rows = []
     found = claims.models(summaries)
     if len(found) < 2:
@@ -172,13 +170,14 @@ def dissipation_rows(summaries):
         for model, name in cases:
             s = summaries[name]
             facts = s.get("impact") or {}
-            energy = s.get("energy_at_lowest_point") or {}
             e0 = s.get("initial_energy")
+            mechanisms = s.get("mechanisms") or {}
             rows.append({
-                "case": name, "model": model, "mode": s["mode"],
-                "energy_fractions": {k: (energy[k] / e0 if e0 and energy.get(k) is not None
-                                         else None) for k in DISSIPATION_KEYS},
+                "case": name, "model": model, "mode": s["mode"], "initial_energy": e0,
+                "mechanisms": mechanisms,
+                "fractions": {k: (v / e0 if e0 else None) for k, v in mechanisms.items()},
                 "closure_error": facts.get("closure_error"),
+                "momentum_error": facts.get("momentum_error"),
                 "peak_block_force": facts.get("peak_block_force"),
                 "edge_force_peak": facts.get("edge_force_peak"),
                 "braking_distance": facts.get("max_displacement"),
@@ -283,18 +282,20 @@ def _claim_lines(claim):
 
 
 def _dissipation_lines(rows, verdicts):
-    """The impact cases under each dissipation model, and each claim's verdict under each."""
+    """The impact cases under each dissipation model (energy by mechanism, forces), and each
+    claim's verdict under each."""
     if not rows:
         return []
     lines = ["", "## Dissipation models side by side", "", DISSIPATION_NOTE, ""]
-    lines += _table(["case", "model", "mode", "local damping / E0", "bond damping / E0",
-                     "contacts / E0", "plastic / E0", "released / E0", "closure",
-                     "peak block force [N]", "peak support force [N]", "braking distance [m]",
-                     "peak zone total per family [N]"],
-                    [[r["case"], r["model"], r["mode"]] +
-                     [_percent(r["energy_fractions"][k]) for k in DISSIPATION_KEYS] +
-                     [_percent(r["closure_error"]), fmt(r["peak_block_force"]),
-                      fmt(r["edge_force_peak"]), fmt(r["braking_distance"]),
+    mechanisms = list(dict.fromkeys(k for r in rows for k in r["mechanisms"]))
+    lines += _table(["case", "model", "mode", "E0 [J]"] + [f"{m} / E0" for m in mechanisms] +
+                    ["closure", "momentum", "peak block force [N]", "peak support force [N]",
+                     "braking distance [m]", "peak zone total per family [N]"],
+                    [[r["case"], r["model"], r["mode"], fmt(r["initial_energy"])] +
+                     [_percent(r["fractions"].get(m)) for m in mechanisms] +
+                     [_percent(r["closure_error"]), _percent(r["momentum_error"]),
+                      fmt(r["peak_block_force"]), fmt(r["edge_force_peak"]),
+                      fmt(r["braking_distance"]),
                       ", ".join(f"{f} {fmt(v)}" for f, v in r["peak_zone_total"].items())]
                      for r in rows])
     names = list(verdicts)
@@ -307,12 +308,14 @@ def _dissipation_lines(rows, verdicts):
 
 
 DISSIPATION_NOTE = (
-    "Energies are fractions of the initial energy E0 taken by the block's lowest point. Local "
-    "(Cundall) damping acts on each node's absolute motion, so it pushes on the net like an "
-    "external force to ground; bond damping acts on the relative motion of each bond's two "
-    "nodes and conserves momentum, so the supports carry all of the block's momentum "
-    "(doc/impact.md). The bond-damping cases are the same impacts with alpha = 0 and "
-    "`damping ZETA` on every bond.")
+    "The same impacts under each dissipation model (doc/impact.md, \"Dissipation\"): the "
+    "energy each mechanism dissipated by the end of the impact, as fractions of the initial "
+    "energy E0 (case.json energy.mechanisms). The physical model damps no absolute velocity "
+    "during the impact: plasticity, ruptures, friction and the bonds' structural damping (which "
+    "conserves momentum) take the energy, and the supports carry all of the block's momentum. "
+    "Local (Cundall) damping acts on each node's absolute motion, like a force to ground: under "
+    "the paper's model it takes most of the energy and the supports feel less of the block's "
+    "momentum.")
 
 
 def _bending_lines(summaries):

@@ -66,6 +66,7 @@ def case_summary(case):
         momentum = case.meta.get("momentum") or {}
         summary["energy_at_lowest_point"] = energy.get("at_lowest_point")
         summary["initial_energy"] = energy.get("initial_energy")
+        summary["mechanisms"] = energy.get("mechanisms")
         summary["dissipation"] = case.meta.get("dissipation", "local")
         summary["impact"] = {"closure_error": energy.get("closure_error"),
                              "momentum_error": momentum.get("error"),
@@ -114,6 +115,7 @@ def fence_summary(meta):
             "momentum_error": (meta.get("momentum") or {}).get("error"),
             "broken_bonds": meta.get("broken_bonds"),
             "energy_final": energy.get("final"), "initial_energy": energy.get("initial_energy"),
+            "mechanisms": energy.get("mechanisms"), "dissipation": meta.get("dissipation"),
             "components": energy.get("components")}
 
 

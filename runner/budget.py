@@ -21,6 +21,10 @@ class Term:
     sign: float = 1.0    # -1 for the work of a force on the system (minus it is dissipated)
     stored: bool = False # counted as it stands (else as its change since the first row)
     dissipative: bool = True   # a mechanism that takes energy out for good (the report's split)
+    # stored energies of the same mechanism, taken off (a contact's work is the energy its
+    # springs hold now plus what its friction dissipated: the term is the dissipated part)
+    less: tuple = ()
+    mechanism: str = ""  # the report's group: the name of the mechanism it belongs to
 
 
 def terms_of(table, terms):
@@ -31,7 +35,10 @@ def terms_of(table, terms):
         for column in term.columns:
             value = table[column] if term.stored else table[column] - table[column][0]
             series = value if series is None else series + value
-        out[term.name] = -series if term.sign < 0 else series
+        series = -series if term.sign < 0 else series
+        for column in term.less:
+            series = series - table[column]
+        out[term.name] = series
     return out
 
 
@@ -42,6 +49,16 @@ def energy_budget(table, terms):
     total = sum(values[t.name] for t in terms)
     e0 = float(total[0])
     return values, total, e0, (total - e0) / e0
+
+
+def mechanisms(values, terms, row=-1):
+    """{mechanism: energy it dissipated by ``row``} over the dissipative terms (J): the
+    report's energy by mechanism."""
+    out = {}
+    for term in terms:
+        if term.dissipative and term.mechanism:
+            out[term.mechanism] = out.get(term.mechanism, 0.0) + float(values[term.name][row])
+    return out
 
 
 def momentum_gap(dp, *impulses):

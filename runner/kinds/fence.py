@@ -27,7 +27,7 @@ from postprocess.datafile import read_data
 from postprocess.errors import PostprocessError, at
 from postprocess.meta import read_json
 
-from .. import INPUTS, budget, engine, netoutputs, timestep
+from .. import INPUTS, budget, dissipation, engine, netoutputs, timestep
 from ..budget import Term
 from ..errors import RunError
 from ..block import Block
@@ -38,7 +38,6 @@ from ..params import Key
 from .base import CaseKind
 
 EAD = "EAD 340059-00-0106"
-ALPHA_RELAX = 0.7        # local damping while the fence settles under its weight (before the budget)
 # After an impact the block and the fence come to rest with the settling's damping, with a
 # viscous part (-C m v on every node): local damping acts on the unbalanced force only and cannot
 # stop parts that move steadily under balanced forces (upslope ropes creeping while their brakes
@@ -109,16 +108,31 @@ BUDGET = (
          stored=True, dissipative=False),
     Term("e_shackle", ("e_shackle",), "spring energy of the shackles", stored=True,
          dissipative=False),
-    Term("w_plastic", ("w_plastic",), "plastic work of wires and brakes (fix wirenet/bonds)"),
-    Term("e_released", ("e_released",), "elastic energy released at ruptures"),
-    Term("damping", ("w_damping",), "work of the local damping", sign=-1),
-    Term("bond_damping", ("w_bond_damping",), "energy dissipated by bond damping"),
-    Term("contact", ("w_contact_block", "w_contact_net"), "work of the block's contacts",
-         sign=-1),
-    Term("contact_layers", ("w_contact_pair",), "work of the node-node contacts", sign=-1),
-    Term("ground", ("w_ground",), "work of the ground's contacts on the nodes", sign=-1),
-    Term("friction", ("w_friction",), "shackle friction (fix wirenet/shackle)"),
-    Term("shackle_damping", ("w_shackle_damping",), "shackle damping"),
+    Term("w_plastic", ("w_plastic",), "plastic work of wires, ropes and brakes (fix "
+         "wirenet/bonds; split by component in components.csv)", mechanism="plasticity"),
+    Term("e_released", ("e_released",), "elastic energy released at ruptures",
+         mechanism="ruptures"),
+    Term("damping", ("w_damping",), "work of the local damping", sign=-1,
+         mechanism="local damping (to ground)"),
+    Term("bond_damping", ("w_bond_damping",), "energy dissipated by bond damping",
+         mechanism="structural damping (bonds)"),
+    Term("e_contact", ("e_contact_block",), "energy stored in the block's contact springs",
+         stored=True, dissipative=False),
+    Term("friction_block", ("w_contact_block", "w_contact_net"), "dissipated by the block's "
+         "contacts with the net: friction and normal damping", sign=-1,
+         less=("e_contact_block",), mechanism="friction: block on net"),
+    Term("contact_layers", ("w_contact_pair",), "work of the node-node contacts (friction; "
+         "their springs' energy is below 1e-3 J a contact)", sign=-1,
+         mechanism="friction: between the net's layers"),
+    Term("e_ground", ("e_ground",), "energy stored in the ground's contact springs",
+         stored=True, dissipative=False),
+    Term("friction_ground", ("w_ground",), "dissipated by the ground's contacts with the nodes: "
+         "friction and normal damping", sign=-1, less=("e_ground",),
+         mechanism="friction: net on ground"),
+    Term("friction", ("w_friction",), "shackle friction (fix wirenet/shackle)",
+         mechanism="friction: shackles on ropes"),
+    Term("shackle_damping", ("w_shackle_damping",), "shackle damping",
+         mechanism="friction: shackles on ropes"),
 )
 # the fence's parts by family (wirenet-gen fence, doc/file_formats.md) and its components for the
 # energy per component (every other bond type is the net's)
@@ -254,7 +268,7 @@ class Setup:
         nx, ny, nz = self.meta["normal"]
         v = dict(self._base_variables(), **self.block.inertia_variables(), dt=repr(self.dt),
                  relax_steps=self.relax_steps, steps=self.steps, every=self.every,
-                 dump_every=self.every, frame_every=self.frame_every, alpha_relax=ALPHA_RELAX,
+                 dump_every=self.every, frame_every=self.frame_every, alpha_relax=dissipation.SETTLE_ALPHA,
                  target_x=repr(tx), target_y=repr(ty), target_z=repr(tz), normal_x=repr(nx),
                  normal_y=repr(ny), normal_z=repr(nz), block_cut=repr(self.block.cut),
                  quat=" ".join(map(repr, self.quat)),
@@ -326,6 +340,16 @@ def component_energies(tallies, components):
         cols = tallies[:, [t - 1 for t in types], :].sum(axis=1)
         out[name] = {k: cols[:, j] - (cols[0, j] if k != "elastic" else 0.0)
                      for j, k in enumerate(BOND_TALLIES)}
+    return out
+
+
+def fence_mechanisms(terms, components):
+    """The energy dissipated by each mechanism over the impact (J): the budget's, with the
+    plastic work split into the brakes' sliding and the yielding of wires and ropes."""
+    out = budget.mechanisms(terms, BUDGET)
+    brakes = float(components["brakes"]["plastic"][-1])
+    out["brakes"] = brakes
+    out["plasticity"] = out.get("plasticity", 0.0) - brakes
     return out
 
 
@@ -445,9 +469,9 @@ class Fence(CaseKind):
              "damping.*", "fence.*", "output.frames")
     # a penalty 100x softer than the paper's 1e9 N/m, so that the block's contact does not set
     # the step on 4 g hex nodes: a wire's breaking force (~3 kN) overlaps it by ~0.3 mm against
-    # node radii of 5 mm (doc/fence.md); local damping 0.1 during the impact (doc/fence.md)
+    # node radii of 5 mm (doc/fence.md); the physical model of the impacts (doc/impact.md)
     defaults = {"panel.net": "compound", "contact.kn": 1e7, "contact.ks": 1e6,
-                "damping.local": 0.1}
+                "damping.local": 0.0, "damping.bond": dissipation.STRUCTURAL_ZETA}
     not_taken = ("not used by a fence case (module size: fence.spacing and fence.height; "
                  "supports: its anchors and posts; it settles for fence.settle_time)")
     finished_file = "block.csv"
@@ -475,6 +499,7 @@ class Fence(CaseKind):
                      block=dict(mass=setup.mass, side=setup.side, speed=setup.speed,
                                 quat=list(setup.quat), energy=setup.energy),
                      gravity=setup.g, damping=c["damping.local"], bond_damping=c["damping.bond"],
+                     dissipation=dissipation.model(c),
                      dt=setup.dt, dt_stable_bonds=setup.dt_bonds,
                      dt_stable_contact=setup.dt_contact, steps=setup.steps,
                      duration=setup.duration, settle_time=setup.settle_time,
@@ -585,6 +610,8 @@ class Fence(CaseKind):
             energy=dict(closure_error=float(np.max(np.abs(error))), initial_energy=e0,
                         final_error=float(error[-1]),
                         final={k: float(terms[k][-1]) for k in names},
+                        mechanisms=fence_mechanisms(terms, components),
+                        local_damping_fraction=float(terms["damping"][-1]) / e0,
                         components={c: dict({k: float(v[-1]) for k, v in tally.items()},
                                             elastic_peak=float(np.max(tally["elastic"])))
                                     for c, tally in components.items()}),

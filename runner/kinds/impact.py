@@ -22,7 +22,7 @@ import numpy as np
 from postprocess.csvio import read_deck_table, write_csv
 from postprocess.meta import PanelInfo
 
-from .. import INPUTS, budget, engine, netoutputs, timestep
+from .. import INPUTS, budget, dissipation, engine, netoutputs, timestep
 from ..budget import Term
 from ..errors import RunError
 from ..block import Block
@@ -32,7 +32,6 @@ from ..params import Key
 from .base import CaseKind
 
 PAPER = "the paper (README: the study WireNet reproduces)"
-ALPHA_RELAX = 0.7      # local damping while the net settles under its weight (before the budget)
 GAP = 0.005            # clearance between the block and the highest node under it [m]
 BOX_Z = 3.0            # the box reaches this far above and below the panel: a rebounding block stays in
 TABLE = "impact.csv"   # the deck's table: names in its header (inputs/impact.in)
@@ -81,14 +80,24 @@ BUDGET = (
          dissipative=False),
     Term("e_elastic", ("e_elastic",), "elastic energy of the bonds (bond style energy tally)",
          stored=True, dissipative=False),
-    Term("w_plastic", ("w_plastic",), "plastic work of the wires (fix wirenet/bonds)"),
-    Term("e_released", ("e_released",), "elastic energy released by broken bonds"),
-    Term("damping", ("w_damping",), "work of the local damping (fix wirenet/damping)", sign=-1),
-    Term("bond_damping", ("w_bond_damping",), "energy dissipated by bond damping"),
-    Term("contact", ("w_contact_block", "w_contact_net"), "work of the block's contacts on the "
-         "block and the nodes (friction, and the spring energy of open contacts)", sign=-1),
+    Term("w_plastic", ("w_plastic",), "plastic work of the wires (fix wirenet/bonds)",
+         mechanism="plasticity"),
+    Term("e_released", ("e_released",), "elastic energy released by broken bonds",
+         mechanism="ruptures"),
+    Term("damping", ("w_damping",), "work of the local damping (fix wirenet/damping)", sign=-1,
+         mechanism="local damping (to ground)"),
+    Term("bond_damping", ("w_bond_damping",), "energy dissipated by bond damping",
+         mechanism="structural damping (bonds)"),
+    Term("e_contact", ("e_contact_block",), "energy stored in the block's contact springs "
+         "(fix wirenet/body)", stored=True, dissipative=False),
+    Term("friction_block", ("w_contact_block", "w_contact_net"), "dissipated by the block's "
+         "contacts with the net: friction and normal damping (minus their work on block and "
+         "nodes, less the energy their springs hold)", sign=-1, less=("e_contact_block",),
+         mechanism="friction: block on net"),
     Term("contact_layers", ("w_contact_pair",), "work of the node-node contacts between the "
-         "layers of a compound panel (fix wirenet/contactwork pair)", sign=-1),
+         "layers of a compound panel (fix wirenet/contactwork pair): friction; their springs' "
+         "energy is below 1e-5 J a contact", sign=-1,
+         mechanism="friction: between the net's layers"),
 )
 
 
@@ -141,7 +150,7 @@ class Setup:
                  centre_x=repr(centre[0]), centre_y=repr(centre[1]),
                  impact_x=repr(centre[0] + self.point[0]), impact_y=repr(centre[1] + self.point[1]),
                  node_r=repr(self.node_r), layers=self.layers, bending=repr(self.bending),
-                 alpha_relax=ALPHA_RELAX, dt=repr(self.dt), relax_steps=self.relax_steps,
+                 alpha_relax=dissipation.SETTLE_ALPHA, dt=repr(self.dt), relax_steps=self.relax_steps,
                  steps=self.steps, every=self.every, dump_every=self.dump_every,
                  zone_r=repr(self.zone_r), out=".",
                  frame_every=max(int(math.ceil(self.steps / self.case["output.frames"])), 1))
@@ -200,7 +209,9 @@ class Impact(CaseKind):
     takes = ("title", "gravity", "panel.*", "supports.*", "preload.mode", "preload.settle_time",
              "materials.*", "contact.*", "damping.*", "impact.*", "output.row_time",
              "output.dump_rows", "output.frames", "output.zones.*")
-    defaults = {"preload.mode": "settle", "damping.local": 0.5}
+    # the physical model (doc/impact.md, "Dissipation"): no damping of absolute velocity during
+    # the impact; the bonds' structural damping, friction, plasticity and ruptures take the energy
+    defaults = {"preload.mode": "settle", "damping.local": 0.0, "damping.bond": dissipation.STRUCTURAL_ZETA}
     finished_file = "block.csv"
     WEIGHT = {"compound": 15, "hex": 8, "square": 2}
 
@@ -257,7 +268,7 @@ class Impact(CaseKind):
                                 inertia=setup.block.inertia.tolist()),
                      gravity=setup.g, body_model=setup.body_model, damping=c["damping.local"],
                      bond_damping=c["damping.bond"],
-                     dissipation="bond" if c["damping.bond"] else "local",
+                     dissipation=dissipation.model(c),
                      rope_strength=list(rope_strength(self.material_values()))
                      if c["materials.rope_strength"] else None,
                      dt=setup.dt, dt_fraction=setup.dt_fraction, steps=setup.steps,
@@ -305,7 +316,9 @@ class Impact(CaseKind):
         rebound = np.nonzero((t["vz"] > 0) & (np.arange(len(t["vz"])) > k_low))[0]
         closure = dict(closure_error=float(np.max(np.abs(error))), initial_energy=e0,
                        final={k: float(terms[k][-1]) for k in names},
-                       at_lowest_point={k: float(terms[k][k_low]) for k in names})
+                       at_lowest_point={k: float(terms[k][k_low]) for k in names},
+                       mechanisms=budget.mechanisms(terms, BUDGET),
+                       local_damping_fraction=float(terms["damping"][-1]) / e0)
         closure["final_error"] = float(error[-1])
         momentum = dict(error=float(np.max(mom["error"])), initial_block_momentum=mom["p0"],
                         final_error=float(mom["error"][-1]),

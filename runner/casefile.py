@@ -30,6 +30,8 @@ class Case:
     quick: bool = False
     stated: frozenset = frozenset()                # the keys the file (or --set) states
     keys: dict = field(default_factory=dict, repr=False)   # path -> its params.Key (the schema's)
+    # --quick: stated keys whose value differs from the default and keeps the case large or long
+    kept_long: tuple = ()
 
     def __getitem__(self, path):
         return self.values[path]
@@ -195,16 +197,55 @@ class Checker:
                                        label=f"{section}.{name}".rstrip(".")
                                        if section == "impact" else section)
         resolve(values)
+        kept = self.quick_over_stated(values, stated, kind)
         impacts = self.items("impact", kind) if applies(BY_PATH["impact.mass"], kind) else []
         if applies(BY_PATH["impact.mass"], kind) and not impacts:
             impacts = [self.item_defaults("impact", kind)]
+        kept += self.quick_items(impacts, "impact", kind)
         zones = []
         if applies(BY_PATH["output.zones.name"], kind):
             zones = self.items("output.zones", kind) or [self.item_defaults("output.zones", kind)]
         case = Case(self.name, self.path, kind, values, impacts, zones, self.quick, stated,
-                    BY_PATH)
+                    BY_PATH, tuple(kept))
         self.cross_checks(case)
         return case
+
+    def quick_over_stated(self, values, stated, kind):
+        """--quick is always quick: a stated value that equals the full default (a template
+        states them all) takes the quick value as an unstated key does; a value that differs is
+        the user's choice and is kept (returned, so that the run says which keys keep it
+        large)."""
+        if not self.quick:
+            return []
+        kept = []
+        for path in sorted(stated):
+            key = BY_PATH.get(path)
+            if key is None or key.quick is None or key.per_item:
+                continue
+            full = resolve({**values, path: default_of(key, kind, False)})[path]
+            if values[path] == full:
+                values[path] = default_of(key, kind, True)
+            else:
+                kept.append((path, values[path]))
+        resolve(values)
+        return kept
+
+    def quick_items(self, items, section, kind):
+        """quick_over_stated for the entries of a list section (each [[impact]])."""
+        if not self.quick:
+            return []
+        kept = []
+        for k, item in enumerate(items, 1):
+            for name, value in item.items():
+                key = BY_PATH[f"{section}.{name}"]
+                if key.quick is None:
+                    continue
+                if value == default_of(key, kind, False):
+                    item[name] = default_of(key, kind, True)
+                elif value != default_of(key, kind, True):
+                    kept.append((f"{section}[{k}].{name}" if len(items) > 1
+                                 else f"{section}.{name}", value))
+        return kept
 
     def not_for_this_kind(self, path, kind, label=None):
         """Refuse a known key that this kind does not take, naming the kinds that do (``label``:

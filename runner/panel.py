@@ -36,6 +36,35 @@ def generator_options(case, net):
     return options
 
 
+# nodes per square metre of the generator's default nets (3 m panels: 2930, 561, 3491 nodes)
+NODE_DENSITY = {"hex": 326.0, "square": 62.0, "compound": 388.0}
+MAX_NODES = 2_000_000     # a panel beyond this is hours a step-second and gigabytes: refused
+
+
+def check(case, fail):
+    """What makes a panel case meaningless or impossible, from the case file alone (each
+    refused with one line naming a key): a panel too large, or held by no edge."""
+    w, h = case["panel.width"], case["panel.height"]
+    nodes = w * h * NODE_DENSITY[case["panel.net"]]
+    if nodes > MAX_NODES:
+        fail("panel.width", f"{w:g} m x panel.height {h:g} m is about {nodes:.3g} nodes, more "
+                            f"than the {MAX_NODES:.0e} a case may have")
+    if all(case[f"supports.{e}"] == "free" for e in supports.EDGES):
+        fail("supports", "all four edges are free: nothing holds the net against the load")
+
+
+def inside(case, offset, reach, fail, key):
+    """Refuse a load point (offset from the panel centre) whose load, ``reach`` from it, does
+    not lie within the panel."""
+    half = (case["panel.width"] / 2, case["panel.height"] / 2)
+    for axis, (o, hs) in enumerate(zip(offset, half)):
+        if abs(o) + reach >= hs:
+            where = "x" if axis == 0 else "y"
+            fail(key, f"{list(offset)} puts the load {abs(o) + reach:g} m from the centre in "
+                      f"{where}, beyond the panel's half size {hs:g} m (panel.width x "
+                      "panel.height)")
+
+
 def node_masses(data):
     """Masses of the data file's atoms (density x sphere volume)."""
     d = data.atom("diameter")

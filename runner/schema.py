@@ -125,8 +125,9 @@ COMMON = [
     # --- outputs -----------------------------------------------------------------------------
     Key("output.dump_rows", "integer", 10, "", "rows between dumps of the bond tensions (zone "
         "forces, Figure 4's frame)", "WireNet (runner/kinds/)", low=1, high=100000),
-    Key("output.frames", "integer", 40, "", "ParaView frames over the load (CASE.pvd)",
-        "WireNet (inputs/include/frames.in)", low=1, high=2000),
+    Key("output.frames", "integer", 40, "", "ParaView frames over the load (CASE.pvd; each "
+        "frame of a 3 m compound panel is about 0.5 MB)", "WireNet (inputs/include/frames.in)",
+        low=1, high=400),
     Key("output.zones.name", "text", "centre", "", "zone name (the first zone writes "
         "zone_forces.csv, the others zone_forces_NAME.csv)", "", per_item=True),
     Key("output.zones.centre", "vector2", [0.0, 0.0], "m", "zone centre, offset from the panel "

@@ -114,6 +114,11 @@ def load_cases(files, quick, overrides):
             loaded.append(casefile.read(path, overrides, quick))
         except CaseFileError as exc:
             raise StudyError(str(exc)) from None
+    for case in loaded:
+        if case.kept_long:
+            kept = ", ".join(f"{k} = {v!r}" for k, v in case.kept_long)
+            print(f"{case.name}: --quick keeps what the case file states: {kept} (remove the "
+                  "keys for the quick values)", flush=True)
     names = [u for c in loaded for u, _ in kinds.of(c).units()]
     dup = sorted({n for n in names if names.count(n) > 1})
     if dup:

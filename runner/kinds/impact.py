@@ -27,7 +27,8 @@ from ..budget import Term
 from ..errors import RunError
 from ..block import Block
 from ..materials import bending_of, rope_strength, rope_strength_keyword
-from ..panel import Panel, write_supports, zones_of
+from ..panel import Panel, inside, write_supports, zones_of
+from ..panel import check as panel_check
 from ..params import Key
 from .base import CaseKind
 
@@ -218,6 +219,7 @@ class Impact(CaseKind):
     @classmethod
     def check(cls, case, fail):
         super().check(case, fail)
+        panel_check(case, fail)
         if case["preload.mode"] == "sag":
             fail("preload.mode", "'sag' is a punch pre-load; an impact case takes 'settle' or "
                                  "'none'")
@@ -236,6 +238,10 @@ class Impact(CaseKind):
                 fail(f"{label}.stl", "only for block = 'stl'")
             if k > 1 and item["body"] != "analytic":
                 fail(f"{label}.body", "successive impacts need the analytic block")
+            if not item["velocity"][2] < 0:
+                fail(f"{label}.velocity", f"{item['velocity']}: the block starts above the panel "
+                                          "and must move down into it (a negative z component)")
+            inside(case, item["point"], 0.0, fail, f"{label}.point")
 
     def units(self):
         n = len(self.case.impacts)

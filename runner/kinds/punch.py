@@ -35,7 +35,8 @@ from .. import INPUTS, engine, netoutputs, quasistatic, timestep
 from ..errors import RunError
 from ..generator import generate
 from ..materials import bending_of, rope_strength, rope_strength_keyword
-from ..panel import Panel, write_supports, zones_of
+from ..panel import Panel, inside, write_supports, zones_of
+from ..panel import check as panel_check
 from ..params import ByKey, Derived, Key
 from .base import CaseKind
 
@@ -476,7 +477,12 @@ class Punch(CaseKind):
     @classmethod
     def check(cls, case, fail):
         super().check(case, fail)
+        panel_check(case, fail)
         v = case.values
+        if v["punch.radius"] >= 0.5 * min(v["panel.width"], v["panel.height"]):
+            fail("punch.radius", f"{v['punch.radius']:g} m: the platter is wider than the panel "
+                                 f"({v['panel.width']:g} m x {v['panel.height']:g} m)")
+        inside(case, v["punch.position"], v["punch.radius"], fail, "punch.position")
         if v["punch.platter"] != "cone" and "punch.tip_radius" in case.stated:
             fail("punch.tip_radius", "only for punch.platter = 'cone'")
         if v["punch.body"] == "mesh" and v["punch.speed_max"] > 1:

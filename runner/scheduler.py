@@ -216,12 +216,17 @@ def _finish(job, out, quick, running, pending):
         stop_jobs(running, out, quick)
         write_record(case_dir, job.record(quick, record.FAILED, error=str(job.error)))
         raise job.error
+    # did it do what the case says? (a run can end well and mean nothing)
+    status, verdict = job.kind.verdict(job.facts) or (record.OK, None)
     # start and end (Unix time): cases side by side overlap, so the study's elapsed time is
     # the span of these, not the sum of the wall times
-    write_record(case_dir, job.record(quick, record.OK, wall_time=job.wall, cpu_time=cpu,
+    write_record(case_dir, job.record(quick, status, wall_time=job.wall, cpu_time=cpu,
                                       started=job.start, finished=job.start + job.wall,
-                                      facts=job.facts))
-    print(f"{job.prefix}: done in {job.wall:.1f} s", flush=True)
+                                      verdict=verdict, facts=job.facts))
+    if status == record.OK:
+        print(f"{job.prefix}: done in {job.wall:.1f} s", flush=True)
+    else:
+        print(f"{job.prefix}: {status} after {job.wall:.1f} s: {verdict}", flush=True)
 
 
 def _launch(job, out, quick):

@@ -128,6 +128,10 @@ COMMON = [
     Key("output.frames", "integer", 40, "", "ParaView frames over the load (CASE.pvd; each "
         "frame of a 3 m compound panel is about 0.5 MB)", "WireNet (inputs/include/frames.in)",
         low=1, high=400),
+    Key("output.budget_tolerance", "number", 0.005, "", "largest departure of the energy budget "
+        "(relative to the initial energy) and of the momentum balance (relative to the block's "
+        "momentum) for a dynamic case to end ok; beyond it the case ends 'budget-open'",
+        "issue #45 (0.5 %)", low=1e-6, high=0.5, quick=0.02),
     Key("output.zones.name", "text", "centre", "", "zone name (the first zone writes "
         "zone_forces.csv, the others zone_forces_NAME.csv)", "", per_item=True),
     Key("output.zones.centre", "vector2", [0.0, 0.0], "m", "zone centre, offset from the panel "

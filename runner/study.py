@@ -14,7 +14,7 @@ import sys
 import time
 import tomllib
 
-from postprocess import report
+from postprocess import record, report
 
 from . import INPUTS, casefile, engine, kinds
 from .errors import CaseFileError, StudyError
@@ -205,6 +205,12 @@ def run(args):
         for claim in summary["claims"]:
             print(f"claim {claim['id']}: {claim['verdict']}")
         print(f"report: {os.path.join(out, 'report.md')} (wall time {time.time() - start:.0f} s)")
+        unsound = {n: s for n, s in summary["cases"].items()
+                   if n in names and s["status"] in record.UNSOUND}
+        if unsound:
+            for n, s in unsound.items():
+                print(f"wirenet run: {n}: {s['status']}: {s['verdict']}", file=sys.stderr)
+            sys.exit(3)
     except Interrupted as exc:
         engine.stop_all()
         print(f"wirenet run: interrupted ({exc.name}); the unfinished case is redone on the next "

@@ -11,6 +11,8 @@ else (doc/architecture.md).
 import threading
 from dataclasses import dataclass
 
+from postprocess import record
+
 from .. import engine
 from ..params import deck_text
 
@@ -85,7 +87,26 @@ class CaseKind:
         """Run unit ``index`` in ctx.case_dir; return the facts for case.json."""
         raise NotImplementedError
 
+    def verdict(self, facts):
+        """(status, what happened and what to change) when the run did not do what the case
+        says (postprocess/record.py's unsound statuses), None when it did."""
+        return None
+
     # --- helpers ------------------------------------------------------------------------------
+    def budget_verdict(self, facts):
+        """BUDGET_OPEN when the energy budget or the momentum balance did not close to
+        output.budget_tolerance, else None."""
+        tol = self.case["output.budget_tolerance"]
+        closure = (facts.get("energy") or {}).get("closure_error")
+        momentum = (facts.get("momentum") or {}).get("error")
+        for name, value in (("energy budget", closure), ("momentum balance", momentum)):
+            if value is not None and not value <= tol:
+                return (record.BUDGET_OPEN,
+                        f"the {name} closes only to {value:.2%} (output.budget_tolerance "
+                        f"{tol:.2%}): a mechanism is missing from it or the step is too large "
+                        "(a smaller impact.dt_fraction / fence.dt shows which)")
+        return None
+
     def material_values(self):
         """{materials.in name: value} of the case's materials and contact keys."""
         return {k.rsplit(".", 1)[1]: v for k, v in self.case.values.items()

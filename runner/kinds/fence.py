@@ -30,6 +30,8 @@ from postprocess.meta import read_json
 from .. import INPUTS, budget, dissipation, engine, netoutputs, timestep
 from ..budget import Term
 from ..errors import RunError
+from postprocess import record
+
 from ..block import Block
 from ..generator import generate
 from ..materials import bending_of, rope_strength_keyword
@@ -466,7 +468,7 @@ class Fence(CaseKind):
     takes = ("title", "gravity", "panel.net", "panel.placement", "panel.selvedge",
              "panel.hex_node_radius", "panel.hex_node_mass", "panel.square_node_radius",
              "panel.rope_mass", "materials.*", "contact.kn", "contact.ks", "contact.mu",
-             "damping.*", "fence.*", "output.frames")
+             "damping.*", "fence.*", "output.frames", "output.budget_tolerance")
     # a penalty 100x softer than the paper's 1e9 N/m, so that the block's contact does not set
     # the step on 4 g hex nodes: a wire's breaking force (~3 kN) overlaps it by ~0.3 mm against
     # node radii of 5 mm (doc/fence.md); the physical model of the impacts (doc/impact.md)
@@ -476,6 +478,13 @@ class Fence(CaseKind):
                  "supports: its anchors and posts; it settles for fence.settle_time)")
     finished_file = "block.csv"
     width = 2
+
+    def verdict(self, facts):
+        touched = facts.get("braking_distance")
+        if not touched:
+            return (record.NO_CONTACT, "the block never touched the fence: check fence.speed "
+                                       "and fence.duration")
+        return self.budget_verdict(facts)
 
     def run(self, index, ctx):
         c = self.case

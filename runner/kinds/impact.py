@@ -25,6 +25,8 @@ from postprocess.meta import PanelInfo
 from .. import INPUTS, budget, dissipation, engine, netoutputs, timestep
 from ..budget import Term
 from ..errors import RunError
+from postprocess import record
+
 from ..block import Block
 from ..materials import bending_of, rope_strength, rope_strength_keyword
 from ..panel import Panel, inside, write_supports, zones_of
@@ -209,7 +211,7 @@ class Impact(CaseKind):
     keys = KEYS
     takes = ("title", "gravity", "panel.*", "supports.*", "preload.mode", "preload.settle_time",
              "materials.*", "contact.*", "damping.*", "impact.*", "output.row_time",
-             "output.dump_rows", "output.frames", "output.zones.*")
+             "output.dump_rows", "output.frames", "output.zones.*", "output.budget_tolerance")
     # the physical model (doc/impact.md, "Dissipation"): no damping of absolute velocity during
     # the impact; the bonds' structural damping, friction, plasticity and ruptures take the energy
     defaults = {"preload.mode": "settle", "damping.local": 0.0, "damping.bond": dissipation.STRUCTURAL_ZETA}
@@ -250,6 +252,12 @@ class Impact(CaseKind):
 
     def weight(self):
         return self.WEIGHT.get(self.case["panel.net"], 1)
+
+    def verdict(self, facts):
+        if not facts["peak_block_force"] > 0:
+            return (record.NO_CONTACT, "the block never touched the net: check impact.point, "
+                                       "impact.velocity and impact.duration")
+        return self.budget_verdict(facts)
 
     def run(self, index, ctx):
         c = self.case

@@ -31,6 +31,8 @@ import numpy as np
 from postprocess import bodyframes, vtu
 from postprocess.csvio import read_csv, write_csv
 
+from postprocess import record
+
 from .. import INPUTS, engine, netoutputs, quasistatic, timestep
 from ..errors import RunError
 from ..generator import generate
@@ -488,6 +490,21 @@ class Punch(CaseKind):
         if v["punch.body"] == "mesh" and v["punch.speed_max"] > 1:
             fail("punch.speed_max", "> 1 needs punch.body = 'analytic' (the mesh platter moves "
                                     "at a constant speed)")
+
+    def verdict(self, facts):
+        if not facts["peak_force"] > 0:
+            return (record.NO_CONTACT, "the platter never touched the net (its tip in a mesh "
+                                       "opening?): move punch.position onto a node or widen the "
+                                       "platter's tip")
+        evidence = facts["quasi_static"]
+        if not self.case.quick and evidence.get("passed") is False:
+            return (record.NOT_QUASI_STATIC,
+                    "the quasi-static evidence failed (curve against the slower twin "
+                    f"{evidence.get('curve_difference')}, kinetic energy / work "
+                    f"{evidence.get('kinetic_energy_fraction')}, equilibrium "
+                    f"{evidence.get('equilibrium_error')}; 1 % each): raise "
+                    "punch.steps_per_metre or lower punch.speed_max")
+        return None
 
     @property
     def width(self):

@@ -283,14 +283,21 @@ class Checker:
                 out[path] = value
 
     def unknown(self, path):
+        if path in SECTIONS:
+            self.fail(path, f"is a section of keys ([{path}] in the file, {path}.KEY with --set), "
+                            "not a value")
         known = [k.path for k in KEYS] + SECTIONS
         self.fail(path, "unknown key" + _suggest(path, known))
 
     def items(self, section, kind):
         entries = _entries(self.raw, section)
-        if section == "impact" and "impact" in self.raw and not isinstance(
-                self.raw["impact"], (dict, list)):
-            self.fail("impact", "must be a table [impact] or tables [[impact]]")
+        raw = self.raw
+        for part in section.split(".")[:-1]:
+            raw = raw.get(part, {}) if isinstance(raw, dict) else {}
+        value = raw.get(section.split(".")[-1]) if isinstance(raw, dict) else None
+        if value is not None and not isinstance(value, (dict, list)):
+            self.fail(section, f"must be a table [{section}] or tables [[{section}]], got "
+                               f"{_kind_name(value)} {value!r}")
         out = []
         for k, entry in enumerate(entries, 1):
             if not isinstance(entry, dict):

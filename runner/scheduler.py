@@ -18,6 +18,7 @@ import threading
 import time
 
 from postprocess import record
+from postprocess.errors import PostprocessError
 from postprocess.output import write_json
 from postprocess.record import CaseRecord
 
@@ -214,7 +215,10 @@ def _finish(job, out, quick, running, pending):
     if job.error is not None:
         pending.clear()
         stop_jobs(running, out, quick)
-        write_record(case_dir, job.record(quick, record.FAILED, error=str(job.error)))
+        try:
+            write_record(case_dir, job.record(quick, record.FAILED, error=str(job.error)))
+        except (OSError, PostprocessError):
+            pass    # a full disk or a folder gone: the error below says why; 'running' reruns it
         raise job.error
     # did it do what the case says? (a run can end well and mean nothing)
     status, verdict = job.kind.verdict(job.facts) or (record.OK, None)

@@ -68,8 +68,10 @@ def _study_files(path):
     try:
         with open(path, "rb") as handle:
             listed = tomllib.load(handle).get("cases")
-    except (OSError, tomllib.TOMLDecodeError) as exc:
-        raise StudyError(f"{path}: {exc}") from None
+    except OSError as exc:
+        raise StudyError(f"{path}: {exc.strerror or exc}") from None
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise StudyError(f"{path}: not valid TOML: {exc}") from None
     if not isinstance(listed, list) or not listed or not all(isinstance(c, str) for c in listed):
         raise StudyError(f"{path}: cases: must be a list of case names or files")
     return [_case_path(c, os.path.dirname(path)) for c in listed]
@@ -93,7 +95,7 @@ def resolve_target(target):
         try:
             with open(path, "rb") as handle:
                 is_study = "cases" in tomllib.load(handle)
-        except (OSError, tomllib.TOMLDecodeError):
+        except (OSError, tomllib.TOMLDecodeError, UnicodeDecodeError):
             is_study = False      # the case-file reader names the error
         stem = os.path.splitext(os.path.basename(path))[0]
         return stem, (_study_files(path) if is_study else [path])
@@ -164,6 +166,21 @@ def check_preload_sources(loaded):
                                  "and time step)")
 
 
+def output_folder(given):
+    """The absolute output folder, created (with its parents) and writable; one line naming it
+    otherwise."""
+    out = os.path.abspath(given)
+    if os.path.exists(out) and not os.path.isdir(out):
+        raise StudyError(f"--out {given}: {out} is a file, not a folder")
+    try:
+        os.makedirs(out, exist_ok=True)
+    except OSError as exc:
+        raise StudyError(f"--out {given}: cannot create {out}: {exc.strerror or exc}") from None
+    if not os.access(out, os.W_OK | os.X_OK):
+        raise StudyError(f"--out {given}: {out} is not writable")
+    return out
+
+
 MAX_RANKS = 4096
 
 
@@ -196,8 +213,7 @@ def run(args):
         _check_np(np_)
         name, files = resolve_target(args.target or DEFAULT_STUDY)
         loaded = load_cases(files, args.quick, args.set or ())
-        out = os.path.abspath(args.out or os.path.join("out", name))
-        os.makedirs(out, exist_ok=True)
+        out = output_folder(args.out or os.path.join("out", name))
         start = time.time()
         with FolderLock(out):
             names = run_cases(loaded, out, args.quick, np_)

@@ -177,7 +177,21 @@ def read_table(workdir):
     return read_deck_table(os.path.join(workdir, TABLE), sorted(
         {c for t in BUDGET for c in t.columns} | {
             "step", "time", "x", "y", "z", "vx", "vy", "vz", "force_mean", "rx_mean", "ry_mean",
-            "rz_mean", "px_net", "py_net", "pz_net", "jx_damp", "jy_damp", "jz_damp"}))
+            "rz_mean", "px_net", "py_net", "pz_net", "jx_damp", "jy_damp", "jz_damp",
+            "contacts"}))
+
+
+def block_verdict(table, broken):
+    """What the net did with the block by the impact's end: 'passed through' (it never turned
+    back, has left the net and bonds broke), 'rebounded' (it turned back and has left the net),
+    'stopped' (it lies in the net)."""
+    turned = np.any(table["vz"] > 0)
+    free = table["contacts"][-1] == 0
+    if free and not turned and broken:
+        return "passed through"
+    if free and turned:
+        return "rebounded"
+    return "stopped"
 
 
 def momentum_balance(table, dt, mass, net_mass, g):
@@ -351,6 +365,7 @@ class Impact(CaseKind):
             time_of_max_displacement=float(time_[k_low]),
             rebound_time=float(time_[rebound[0]]) if rebound.size else None,
             final_block_velocity=[float(t["vx"][-1]), float(t["vy"][-1]), float(t["vz"][-1])],
+            block_verdict=block_verdict(t, len(ruptures)),
             broken_bonds=len(ruptures),
             ruptures=ruptures[:200], ruptures_listed=min(len(ruptures), 200),
             first_rupture=netoutputs.rupture_facts(ruptures[0]) if ruptures else None,

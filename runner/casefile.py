@@ -403,6 +403,12 @@ class Checker:
             self.fail(label, "stresses must be > 0")
         return pairs
 
+    def _list_number(self, key, value, label):
+        if (not isinstance(value, list) or not value or
+                any(isinstance(v, bool) or not isinstance(v, (int, float)) for v in value)):
+            self.fail(label, f"must be a list of numbers [{key.unit or '-'}], got {value!r}")
+        return [self._number(key, v, f"{label}[{k}]") for k, v in enumerate(value, 1)]
+
     def _list_int(self, key, value, label):
         if (not isinstance(value, list) or not value or
                 any(isinstance(v, bool) or not isinstance(v, int) or v < 1 for v in value)):

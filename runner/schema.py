@@ -123,6 +123,9 @@ COMMON = [
         "critical damping (momentum-conserving)", "doc/impact.md, doc/fence.md", low=0.0,
         high=1.0, var="bond_zeta"),
     # --- outputs -----------------------------------------------------------------------------
+    Key("output.row_travel", "number", 0.002, "m", "the load's travel between rows of the "
+        "test's table (punch.csv, tensile.csv: force, reactions, energies)",
+        "WireNet (runner/kinds/)", low=1e-7, high=1.0),
     Key("output.dump_rows", "integer", 10, "", "rows between dumps of the bond tensions (zone "
         "forces, Figure 4's frame)", "WireNet (runner/kinds/)", low=1, high=100000),
     Key("output.frames", "integer", 40, "", "ParaView frames over the load (CASE.pvd; each "

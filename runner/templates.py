@@ -85,7 +85,7 @@ def _type_text(key):
     if key.choices:
         return " \\| ".join(key.choices)
     return {"vector2": "[x, y]", "vector3": "[x, y, z]", "quat": "[w, x, y, z]",
-            "pairs": "[[e, s], ...]", "list-int": "[n, ...]", "bending": "number or "
+            "pairs": "[[e, s], ...]", "list-int": "[n, ...]", "list-number": "[x, ...]", "bending": "number or "
             "\"calibrated\""}.get(key.type, key.type)
 
 

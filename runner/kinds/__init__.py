@@ -5,8 +5,9 @@ from .cantilever import Cantilever
 from .fence import Fence
 from .impact import Impact
 from .punch import Punch
+from .tensile import Tensile
 
-ALL = (Punch, Impact, Cantilever, Fence)
+ALL = (Punch, Impact, Tensile, Cantilever, Fence)
 NAMES = tuple(k.name for k in ALL)
 BY_NAME = {k.name: k for k in ALL}
 

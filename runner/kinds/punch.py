@@ -139,8 +139,6 @@ KEYS = (
     _punch("body", "choice", "analytic", "", "analytic: exact body (fix wirenet/body); mesh: "
            "the generator's STL (facet traps of doc/punch.md)", "doc/fix_wirenet_body.md",
            choices=("analytic", "mesh"), var="body_model"),
-    Key("output.row_travel", "number", 0.002, "m", "platter travel between rows of punch.csv "
-        "(force, reactions, energies)", "WireNet (runner/kinds/punch.py)", low=1e-6, high=1.0),
 )
 
 

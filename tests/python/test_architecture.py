@@ -275,15 +275,21 @@ def test_no_kind_function_restates_a_key_default():
 
 
 def test_the_signature_check_bites():
-    """A function like the old impact.Setup(..., dt_fraction=0.5, duration=None, alpha=0.5) is
-    found: dt_fraction restates impact.dt_fraction's default, alpha damping.local's (its deck
-    variable) for impact."""
+    """A function like the old impact.Setup(workdir, dt_fraction=0.5, duration=None, alpha=...,
+    mass=44.5) is found: dt_fraction restates impact.dt_fraction's default, alpha (damping.local's
+    deck variable) the punch's local damping, mass impact.mass's; duration=None and a number no
+    key has are not."""
     defaults = _key_defaults()
-
-    def old(workdir, dt_fraction=0.5, duration=None, alpha=0.5, mass=44.5):
-        return workdir
-
-    found = {p.name for p in inspect.signature(old).parameters.values()
+    by_path = schema.BY_PATH
+    P = inspect.Parameter
+    old = inspect.Signature([P("workdir", P.POSITIONAL_OR_KEYWORD)] + [
+        P(name, P.POSITIONAL_OR_KEYWORD, default=value) for name, value in (
+            ("dt_fraction", schema.default_of(by_path["impact.dt_fraction"], "impact")),
+            ("duration", None),
+            ("alpha", schema.default_of(by_path["damping.local"], "punch")),
+            ("mass", by_path["impact.mass"].default),
+            ("side", 12345.0))])
+    found = {p.name for p in old.parameters.values()
              if p.default is not inspect.Parameter.empty and
              any(_same(p.default, v) for _, v in defaults.get(p.name, ()))}
     assert found == {"dt_fraction", "alpha", "mass"}

@@ -72,7 +72,7 @@ def error_of(text):
     ('kind = "punch"\n[punch]\nbody = "mesh"\nspeed_max = 2\n', "punch.speed_max: > 1 needs punch.body = 'analytic'"),
     ('kind = "punch"\n[punch]\nspeed_max = 0.5\n', "punch.speed_max: must be >= 1, got 0.5"),
     ('kind = "punch"\n[punch]\nequilibrium_target = 0\n', "punch.equilibrium_target: must be > 0, got 0"),
-    ('kind = "punch"\npanel = 3\n', "panel: unknown key"),
+    ('kind = "punch"\npanel = 3\n', "panel: is a section of keys ([panel] in the file, panel.KEY with --set), not a value"),
     ('kind = "punch"\n[panel\n', "not valid TOML"),
     ('kind = "punch"\n[materials]\nslack_seed = 1.5\n', "materials.slack_seed: must be an integer, got"),
     ('kind = "punch"\n[materials]\nslack_seed = -2\n', "materials.slack_seed: must be >= -1, got -2"),
@@ -95,8 +95,15 @@ def test_defaults_are_the_papers():
     assert punch["panel.width"] == 3.0 and punch["supports.left"] == "sliding"
     assert punch["damping.local"] == 0.7 and punch["preload.mode"] == "sag"
     assert punch["materials.wire_d"] == 0.0027 and punch["contact.kn"] == 1e9
+    # an impact's default dissipation is the physical model (runner/dissipation.py: no local
+    # damping during the impact, the bonds' structural damping); the paper's local damping 0.5
+    # is the case impact_*_paper
+    from runner import dissipation
     impact = check('kind = "impact"\n')
-    assert impact["damping.local"] == 0.5 and impact["preload.mode"] == "settle"
+    assert impact["damping.local"] == 0.0 and impact["preload.mode"] == "settle"
+    assert impact["damping.bond"] == dissipation.STRUCTURAL_ZETA == 0.05
+    paper = casefile.read(lmp.ROOT / "inputs" / "cases" / "impact_hex_paper.toml")
+    assert paper["damping.local"] == 0.5 and paper["damping.bond"] == 0.0
     assert impact.impacts == [dict(block="truncated-cube", stl="", side=0.45, mass=44.5,
                                    velocity=[0.0, 0.0, -10.0], point=[0.0, 0.0],
                                    orientation=[1.0, 0.0, 0.0, 0.0], duration=1.0,
@@ -260,17 +267,24 @@ def _held(node_edges, chosen):
     supports.PAPER,
 ])
 def test_supports_in_liggghts_block_what_they_say(tmp_path, chosen):
-    """A 3 x 3 grid of nodes typed as a panel's edges (types of doc/file_formats.md) under a
-    uniform force: the rendered supports, included, removed by their unfix file and included
-    again, hold exactly the components they name, and the reactions v_rx v_ry v_rz balance the
-    applied force on the held nodes (counted here from the edges each node lies on)."""
+    """A 3 x 3 grid of nodes typed as a panel's edges (the hex mesh's atom types, numbered as
+    the generator's PREFIX.types.in numbers them) under a uniform force: the rendered supports,
+    included, removed by their unfix file and included again, hold exactly the components they
+    name, and the reactions v_rx v_ry v_rz balance the applied force on the held nodes (counted
+    here from the edges each node lies on)."""
+    subprocess.run([str(lmp.GEN), "hex", "--width", "0.3", "--height", "0.3", "--out",
+                    str(tmp_path / "gen")], check=True, capture_output=True)
+    types = tmp_path / "gen.types.in"
+    number = {line.split()[1]: int(line.split()[3]) for line in types.read_text().splitlines()
+              if line.startswith("variable")}
     atoms, k, expected = [], 0, {"x": 0.0, "y": 0.0, "z": 0.0}
     push = {"x": 1.0, "y": 2.0, "z": 3.0}
     for j, y in enumerate((-1.0, 0.0, 1.0)):
         for i, x in enumerate((-1.0, 0.0, 1.0)):
             k += 1
             corner, xe, ye = (i != 1 and j != 1), (i != 1 and j == 1), (j != 1 and i == 1)
-            t = 4 if corner else 2 if xe else 3 if ye else 1
+            t = number["atom_hex_corner" if corner else "atom_hex_edge_x" if xe else
+                       "atom_hex_edge_y" if ye else "atom_hex_interior"]
             atoms.append((k, t, x, y, 0.0))
             edges = ([("left", "right")[i // 2]] if i != 1 else []) + \
                     ([("bottom", "top")[j // 2]] if j != 1 else [])
@@ -279,7 +293,8 @@ def test_supports_in_liggghts_block_what_they_say(tmp_path, chosen):
     (tmp_path / "supports.in").write_text(supports.render(chosen))
     (tmp_path / "unfix.in").write_text(supports.render_unfix(chosen))
     data = tmp_path / "grid.data"
-    lines = ["grid", "", "9 atoms", "8 atom types", "", "-2 2 xlo xhi", "-2 2 ylo yhi",
+    lines = ["grid", "", "9 atoms",
+             f"{max(v for n, v in number.items() if n.startswith('atom_'))} atom types", "", "-2 2 xlo xhi", "-2 2 ylo yhi",
              "-2 2 zlo zhi", "", "Atoms", ""]
     lines += [f"{i} {t} 0.1 1000 {x} {y} {z}" for i, t, x, y, z in atoms]
     data.write_text("\n".join(lines) + "\n")
@@ -289,6 +304,7 @@ atom_modify map array sort 0 0
 boundary f f f
 read_data {data}
 variable inc string {lmp.ROOT / 'inputs' / 'include'}
+include {types}
 include ${{inc}}/edges.in
 variable every index 5
 fix push all addforce {push['x']} {push['y']} {push['z']}

@@ -67,6 +67,7 @@ def _stretched_tensions(tmp_path, name, extra_vars):
     sets = "".join(f"variable {k} index {v}\n" for k, v in extra_vars.items())
     deck = f"""{sets}variable inc string {lmp.ROOT / 'inputs' / 'include'}
 variable data string {work / 'net.data'}
+variable types string {work / 'net.types.in'}
 include ${{inc}}/materials.in
 include ${{inc}}/net.in
 run 0
@@ -83,6 +84,16 @@ run 0
     return {(int(a), int(b)): (int(t), float(e), float(f)) for a, b, t, e, f in rows}
 
 
+def _types(path):
+    """{NAME: number} of a generator's PREFIX.types.in (variable NAME index N lines)."""
+    out = {}
+    for line in path.read_text().splitlines():
+        words = line.split()
+        if words[:1] == ["variable"] and words[2:3] == ["index"]:
+            out[words[1]] = int(words[3])
+    return out
+
+
 def test_case_slack_keys_reach_every_wire_bond(tmp_path):
     """materials.slack_u/slack_f/slack_seed (case keys -> materials.in -> net.in) give every wire
     bond the slack of doc/bond_wirenet.md: with seed -1 (dl = lambda_u l0) and lambda_f = 1 the
@@ -93,7 +104,8 @@ def test_case_slack_keys_reach_every_wire_bond(tmp_path):
     from runner.materials import SW_CURVE
     plain = _stretched_tensions(tmp_path, "plain", {})
     slack = _stretched_tensions(tmp_path, "slack", {"slack_u": 0.2, "slack_seed": -1})
-    first = {t: SW_CURVE[0][0] for t in (1, 2, 3)}
+    types = _types(tmp_path / "plain" / "net.types.in")      # the wire bonds' types by name
+    first = {types[f"bond_{n}"]: SW_CURVE[0][0] for n in ("DT", "SW", "selvedge")}
     ratios = {t: [] for t in first}
     for pair, (btype, strain, force) in plain.items():
         assert strain < first[btype]                  # the first, linear branch of both laws

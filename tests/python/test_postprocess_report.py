@@ -436,7 +436,8 @@ def test_fence_energy_per_component_row():
 def test_fence_rest_settled():
     """A residual height after a rest that ended at its time limit with the ropes moving is
     marked; one below the energy limit or with the ropes still is not; no rest: None."""
-    settled = report_module._rest_settled
+    from postprocess import summary as summary_module
+    settled = summary_module._rest_settled
     assert settled({"reached": False, "still": False}) is False
     assert settled({"reached": False, "still": True}) is True
     assert settled({"reached": True}) is True

@@ -11,6 +11,7 @@ import time
 import pytest
 
 from runner import engine, kinds, scheduler
+from runner.kinds.base import CaseKind
 from runner.kinds.impact import Impact
 from runner.kinds.punch import Punch
 
@@ -29,15 +30,15 @@ class FakeCase:
         return self.values[key]
 
 
-class FakeRunner:
-    """A kind (runner/kinds/base.CaseKind's interface) that sleeps; a width-2 case (a punch
+class FakeRunner(CaseKind):
+    """A kind (on runner/kinds/base.CaseKind) that sleeps; a width-2 case (a punch
     pair) gives one core back half-way; a source of punch.preload_from writes its hand-over
     restart and sets the event the scheduler gave it."""
     log, lock, starts_from = [], threading.Lock(), {}
     finished_file = "x.csv"
 
     def __init__(self, case):
-        self.case = case
+        super().__init__(case)
         self.width = case.width_
 
     def units(self):

@@ -234,7 +234,8 @@ def test_figure4_punch_uses_the_peak_before_the_first_rupture(tmp_path):
     assert artists["broken"] is None
     assert artists["colorbar"].mappable.get_clim() == pytest.approx(
         (0.0, data["tension"].max()))
-    plots._pyplot().close(fig)
+    from postprocess import canvas
+    canvas.pyplot().close(fig)
 
 
 def test_study_figures_draw_figure4_for_every_case_with_a_series(tmp_path):

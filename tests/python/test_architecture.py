@@ -328,10 +328,10 @@ kinds.ALL = kinds.ALL + (Probe,)
 kinds.NAMES = tuple(k.name for k in kinds.ALL)
 kinds.BY_NAME["probe"] = Probe
 # read only now: the schema collects the kinds' keys when it is imported
-from runner import __main__ as cli, api, casefile, scheduler, templates
+from runner import __main__ as cli, api, casefile, scheduler, schema, templates
 import contextlib, io
 
-out = {{}}
+out = {{"names": list(kinds.NAMES), "gravity_takers": schema.takers(schema.BY_PATH["gravity"])}}
 text = io.StringIO()
 with contextlib.redirect_stdout(text):
     out["new_exit"] = cli.main(["new", "probe"])
@@ -396,7 +396,8 @@ def test_a_new_kind_is_in_the_template_and_the_key_tables(probe):
            "sits | the test |" in tables
     assert "probe: a throwaway kind of the architecture test" in tables   # the `kind` key
     gravity = next(l for l in tables.splitlines() if l.startswith("| `gravity` |"))
-    assert "probe: 0.0" in gravity and "punch, impact, fence, probe" in gravity
+    assert probe["gravity_takers"][-1] == "probe"
+    assert "probe: 0.0" in gravity and f"| {', '.join(probe['gravity_takers'])} |" in gravity
 
 
 def test_a_new_kind_is_checked_like_every_other(probe):
@@ -410,8 +411,10 @@ def test_a_new_kind_is_checked_like_every_other(probe):
     assert "probe.mode: must be one of up, down, got 'sideways'" in errors["choice"]
     assert "punch.speed: only for kind 'punch' (this case is 'probe')" in errors["foreign"]
     assert "probe.level: only for kind 'probe' (this case is 'punch')" in errors["taken"]
-    assert "kind: must be one of punch, impact, cantilever, fence, probe, got 'probes'" \
-        " (did you mean 'probe'?)" in errors["kind"]
+    assert probe["names"][-1] == "probe"
+    assert {"punch", "impact", "cantilever", "fence"} <= set(probe["names"])
+    assert f"kind: must be one of {', '.join(probe['names'])}, got 'probes' (did you mean " \
+        "'probe'?)" in errors["kind"]
 
 
 def test_a_new_kind_runs_in_a_study_and_is_recorded_and_reported(probe):

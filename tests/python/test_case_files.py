@@ -13,6 +13,9 @@ import lmp
 from runner import casefile, kinds, materials, schema, supports, templates
 
 DRIVER = lmp.ROOT / "wirenet"
+# the kinds as the registry lists them (runner/kinds/__init__.py): the paper's four among them
+KIND_NAMES = ", ".join(kinds.NAMES)
+assert {"punch", "impact", "cantilever", "fence"} <= set(kinds.NAMES)
 
 
 def check(text, quick=False):
@@ -49,7 +52,7 @@ def error_of(text):
     ('kind = "impact"\n[impact]\nblock = "stl"\n', "impact.stl: block 'stl' needs the STL file"),
     ('kind = "impact"\n[preload]\nmode = "sag"\n', "preload.mode: 'sag' is a punch pre-load"),
     ('kind = "punch"\ngravity = 0.0\n', "preload.mode: 'sag' needs gravity > 0"),
-    ('kind = "wall"\n', "kind: must be one of punch, impact, cantilever, fence"),
+    ('kind = "wall"\n', f"kind: must be one of {KIND_NAMES}, got 'wall'"),
     ('kind = "fence"\n[panel]\nwidth = 3.0\n', "panel.width: not used by a fence case"),
     ('kind = "fence"\n[supports]\nleft = "pinned"\n', "supports.left: not used by a fence case"),
     ('kind = "fence"\n[preload]\nmode = "none"\n', "preload.mode: not used by a fence case"),
@@ -81,13 +84,26 @@ def error_of(text):
     ('kind = "punch"\n[panel]\nselvedge = "yes"\n', "panel.selvedge: must be one of loop, none"),
     ('kind = "punch"\n[output]\ndump_rows = 0\n', "output.dump_rows: must be >= 1, got 0"),
     ('kind = "punch"\n[output]\nrow_time = 1e-3\n', "output.row_time: only for kind 'impact'"),
-    ('kind = "impact"\n[output]\nrow_travel = 1e-3\n', "output.row_travel: only for kind 'punch'"),
+    ('kind = "impact"\n[output]\nrow_travel = 1e-3\n', "output.row_travel: only for kind"),
     ('kind = "punch"\n[output]\nframes = true\n', "output.frames: must be an integer, got"),
 ])
 def test_bad_case_file_is_one_line_naming_the_key(text, expected):
     message = error_of(text)
     assert expected in message, message
     assert "\n" not in message and message.startswith("/") and "case.toml: " in message
+
+
+@pytest.mark.parametrize("text, path, kind", [
+    ('kind = "impact"\n[output]\nrow_travel = 1e-3\n', "output.row_travel", "impact"),
+    ('kind = "punch"\n[output]\nrow_time = 1e-3\n', "output.row_time", "punch"),
+    ('kind = "fence"\n[impact]\nmass = 10.0\n', "impact.mass", "fence"),
+])
+def test_a_key_of_other_kinds_names_every_kind_that_takes_it(text, path, kind):
+    takers = schema.takers(schema.BY_PATH[path])
+    assert takers and kind not in takers
+    expected = f"{path}: only for kind{'s' if len(takers) > 1 else ''} " + \
+        ", ".join(f"'{n}'" for n in takers) + f" (this case is '{kind}')"
+    assert error_of(text).endswith(expected)
 
 
 def test_defaults_are_the_papers():

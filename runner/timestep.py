@@ -11,8 +11,8 @@ from dataclasses import dataclass
 from . import INPUTS, engine
 from .errors import RunError
 
-LINE = re.compile(r"^wirenet: stable time step (\S+) s loaded, (\S+) s free \(bonds (\S+) s: "
-                  r"translation (\S+) s, rotation (\S+) s; contact (\S+) s\)", re.M)
+LINE = r"^wirenet: stable time step{tag} (\S+) s loaded, (\S+) s free \(bonds (\S+) s: " \
+       r"translation (\S+) s, rotation (\S+) s; contact (\S+) s\)"
 
 
 @dataclass(frozen=True)
@@ -27,16 +27,17 @@ class StableStep:
     contact: float
 
 
-def read(workdir):
-    """The StableStep a deck printed into workdir/log.lammps."""
+def read(workdir, tag=""):
+    """The StableStep a deck printed into workdir/log.lammps (``tag``: the line's label after
+    'stable time step', e.g. ' settling')."""
     path = os.path.join(workdir, "log.lammps")
     try:
         with open(path, errors="replace") as fh:
-            found = LINE.search(fh.read())
+            found = re.search(LINE.format(tag=re.escape(tag)), fh.read(), re.M)
     except OSError as exc:
         raise RunError(f"{path}: {exc.strerror or exc}") from None
     if not found:
-        raise RunError(f"{path}: no line 'wirenet: stable time step ...'")
+        raise RunError(f"{path}: no line 'wirenet: stable time step{tag} ...'")
     return StableStep(*(float(v) for v in found.groups()))
 
 

@@ -15,8 +15,11 @@ Deck: inputs/fence.in (include/fence_impact.in). Results, each from its own mech
 - ruptures by family.
 """
 
+import hashlib
+import json
 import math
 import os
+import shutil
 import time
 
 import numpy as np
@@ -47,6 +50,10 @@ EAD = "EAD 340059-00-0106"
 # fence's slow sway (periods about 1 s) at about 0.8 of critical
 REST_VISCOUS = 10.0
 REST_KE = 1e-5           # the rest ends below this fraction of the block's energy (5 J at 500 kJ)
+# The settling before the impact ends once the fence is still: its kinetic energy below SETTLE_KE
+# (1 J: a 5 t fence moving at 2 cm/s) and the residual height's probe still (REST_STILL over
+# REST_WINDOW), or at fence.settle_time
+SETTLE_KE = 1.0          # J
 # ... or once the middle module's support ropes are still: the deck's probe of the residual
 # height has stayed within REST_STILL over REST_WINDOW (the height is read to the centimetre)
 REST_STILL = 1e-3        # m
@@ -93,6 +100,11 @@ KEYS = (
     _fence("impacts", "integer", 1, "", "1, or 2: the guideline's SEL test, a second block (the "
            "same one) on the unrepaired fence after the first block is taken away and the fence "
            "has come to rest", EAD + " (SEL)", low=1, high=2, var="impacts"),
+    _fence("settle_mass_factor", "integer", 16, "", "while the fence settles, the hex mesh's "
+           "light nodes carry this many times their mass (their weight unchanged): a static state "
+           "does not depend on the masses, and the step they set grows by its square root; a "
+           "power of two (the masses come back exactly); 1: none", "doc/fence.md (\"Settling\")",
+           low=1, high=1024),
     _fence("dt", "number", 0.0, "s", "time step; 0: half the stable step of the bonds and the "
            "block's contact on the lightest node (compute wirenet/timestep)", "doc/fence.md",
            low=0.0, high=1e-3),
@@ -164,6 +176,20 @@ def component_types(meta, ntypes):
     return {"net": tuple(t for t in range(1, ntypes + 1) if t not in taken), **parts}
 
 
+SETTLED_DIR = ".settled"    # DIR/.settled/KEY/settled.restart: settled fences of the study
+
+
+def keep_settled(restart, cached):
+    """Keep a run's settled fence for the study's other cases (written whole, then renamed:
+    a case that looks for it finds all of it or nothing)."""
+    if not os.path.isfile(restart):
+        return
+    os.makedirs(os.path.dirname(cached), exist_ok=True)
+    tmp = cached + f".{os.getpid()}.tmp"
+    shutil.copyfile(restart, tmp)
+    os.replace(tmp, cached)
+
+
 def middle_module(meta):
     """Where the residual height is measured: the middle module's x range (between its posts)
     and the height that splits the top from the bottom support rope as generated."""
@@ -172,13 +198,13 @@ def middle_module(meta):
     return min(mid), max(mid), 0.5 * float(fence_["height"])
 
 
-def rest_probe(meta, dt, every):
-    """The deck's variables of the rest's stillness probe (inputs/fence.in): the middle
-    module, the window in steps (whole rows of `every`)."""
+def rest_probe(meta, dt, every, window="rest_window"):
+    """The deck's variables of the stillness probe (inputs/fence.in): the middle module, the
+    window in steps of dt (whole rows of `every`), named ``window``."""
     x0, x1, zsplit = middle_module(meta)
-    return dict(rest_still=repr(REST_STILL), rest_x0=repr(x0), rest_x1=repr(x1),
-                rest_zsplit=repr(zsplit),
-                rest_window=int(math.ceil(REST_WINDOW / dt / every)) * every)
+    return {"rest_still": repr(REST_STILL), "rest_x0": repr(x0), "rest_x1": repr(x1),
+            "rest_zsplit": repr(zsplit),
+            window: int(math.ceil(REST_WINDOW / dt / every)) * every}
 
 
 def block_turn(tilt_deg):
@@ -224,8 +250,13 @@ class Setup:
         self.node_r = float(np.max(data.atom("diameter")[net]) / 2)
         # the stable step of bonds and the block's contact on the lightest node (both layers of
         # a compound net), from the bond style's estimate (runner/timestep.py)
-        stable = self._stable_step(np_)
+        self.settle_mass = c["fence.settle_mass_factor"]
+        if self.settle_mass & (self.settle_mass - 1):
+            raise RunError(f"fence.settle_mass_factor: must be a power of two (the masses come "
+                           f"back exactly), got {self.settle_mass}")
+        stable, settling = self._stable_step(np_)
         self.dt_bonds, self.dt_contact, self.dt_stable = stable.bonds, stable.contact, stable.loaded
+        self.dt_settle = DT_SAFETY * settling.loaded
         self.dt = c["fence.dt"] or DT_SAFETY * self.dt_stable
         if self.dt > self.dt_stable:
             raise RunError(f"fence.dt = {self.dt:g} s exceeds the stable step "
@@ -234,7 +265,9 @@ class Setup:
         self.duration, self.settle_time = c["fence.duration"], c["fence.settle_time"]
         self.steps = int(math.ceil(self.duration / self.dt))
         self.every = max(int(round(c["fence.row_time"] / self.dt)), 1)
-        self.relax_steps = int(math.ceil(self.settle_time / self.dt / self.every)) * self.every
+        self.settle_every = max(int(round(c["fence.row_time"] / self.dt_settle)), 1)
+        self.relax_steps = int(math.ceil(self.settle_time / self.dt_settle / self.settle_every)) \
+            * self.settle_every
         self.rest_time = c["fence.rest_time"]
         self.rest_steps = int(math.ceil(self.rest_time / self.dt / self.every)) * self.every
         self.frame_every = max(int(math.ceil(self.steps / int(c["output.frames"]))), 1)
@@ -258,19 +291,46 @@ class Setup:
         return v
 
     def _stable_step(self, np_):
-        """The stable steps of the fence as built (fence.in with probe 1: its bonds and the
-        contact, include/timestep.in)."""
+        """The stable steps of the fence as built and while it settles (fence.in with probe 1:
+        its bonds and the contact, include/timestep.in; then with the light nodes' masses
+        scaled)."""
         probe = os.path.join(self.workdir, "probe")
-        engine.run(INPUTS / "fence.in", probe, dict(self._base_variables(), probe=1), np=np_,
+        engine.run(INPUTS / "fence.in", probe,
+                   dict(self._base_variables(), probe=1, settle_mass=self.settle_mass), np=np_,
                    label="fence: stable step")
-        return timestep.read(probe)
+        return timestep.read(probe), timestep.read(probe, " settling")
+
+    def settle_variables(self):
+        """The deck variables the settling depends on besides the fence's files: with them and
+        the files, the settled state's key (settled_key)."""
+        return dict(self._base_variables(), dt_settle=repr(self.dt_settle),
+                    relax_steps=self.relax_steps, settle_every=self.settle_every,
+                    settle_mass=self.settle_mass, settle_ke=repr(SETTLE_KE),
+                    alpha_relax=dissipation.SETTLE_ALPHA,
+                    **rest_probe(self.meta, self.dt_settle, self.settle_every, "settle_window"))
+
+    def settled_key(self):
+        """sha256 of everything the settled fence depends on: the generated files, the deck and
+        its includes, the settling's variables and the LIGGGHTS binary."""
+        h = hashlib.sha256()
+        # the generated files name their own folder: the key must not
+        prefix = os.path.abspath(os.path.join(self.workdir, "fence")).encode()
+        files = [self.data_path, self.shackles, self.types_path, INPUTS / "fence.in",
+                 *sorted((INPUTS / "include").glob("*.in")), engine.binary("liggghts")]
+        for path in files:
+            with open(path, "rb") as fh:
+                h.update(fh.read().replace(prefix, b"PREFIX"))
+        variables = {k: v for k, v in self.settle_variables().items()
+                     if k not in ("data", "types", "shackles", "out", "inc")}
+        h.update(json.dumps(variables, sort_keys=True).encode())
+        return h.hexdigest()[:20]
 
     def variables(self):
         tx, ty, tz = self.meta["impact_target"]
         nx, ny, nz = self.meta["normal"]
-        v = dict(self._base_variables(), **self.block.inertia_variables(), dt=repr(self.dt),
-                 relax_steps=self.relax_steps, steps=self.steps, every=self.every,
-                 dump_every=self.every, frame_every=self.frame_every, alpha_relax=dissipation.SETTLE_ALPHA,
+        v = dict(self.settle_variables(), **self.block.inertia_variables(), dt=repr(self.dt),
+                 steps=self.steps, every=self.every,
+                 dump_every=self.every, frame_every=self.frame_every,
                  target_x=repr(tx), target_y=repr(ty), target_z=repr(tz), normal_x=repr(nx),
                  normal_y=repr(ny), normal_z=repr(nz), block_cut=repr(self.block.cut),
                  quat=" ".join(map(repr, self.quat)),
@@ -492,11 +552,19 @@ class Fence(CaseKind):
         setup = Setup(self, os.path.join(ctx.case_dir, "setup"), bending, np_=ctx.ranks)
         workdir = os.path.join(ctx.case_dir, "run")
         start = time.time()
-        wall = engine.run(INPUTS / "fence.in", workdir, setup.variables(), np=ctx.ranks,
+        # a fence settled before with everything the same is taken as it was left
+        cached = os.path.join(ctx.study_dir, SETTLED_DIR, setup.settled_key(), "settled.restart")
+        variables = setup.variables()
+        if os.path.isfile(cached):
+            variables.update(from_settled=1, settled=cached)
+        wall = engine.run(INPUTS / "fence.in", workdir, variables, np=ctx.ranks,
                           total_steps=setup.steps, label="fence", dt=setup.dt,
                           phase_marker="impact: block released",
                           then=("rest", setup.rest_steps) if setup.rest_steps else None)
+        if not os.path.isfile(cached):
+            keep_settled(os.path.join(workdir, "settled.restart"), cached)
         facts = self.write_outputs(setup, ctx.case_dir, workdir, read_table(workdir))
+        facts["settled_from"] = cached if variables.get("from_settled") else None
         if setup.impacts == 2:
             second = os.path.join(workdir, "impact_2")
             second_dir = os.path.join(ctx.case_dir, "impact_2")

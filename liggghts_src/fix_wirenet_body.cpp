@@ -7,7 +7,9 @@
    and sums the reaction on the body, over all ranks for a free body (its motion needs it); a
    kinematic body reduces its sums only when an output asks (reduce()). final_integrate gives
    the free body its second half kick; end_of_step integrates the power of the contact forces
-   on the nodes. Every rank holds the whole body state and integrates it identically. */
+   on the nodes. Every rank holds the whole body state and integrates it identically; the floors'
+   contacts depend on that state alone, so every rank computes them, identically, without
+   communication. */
 
 #include "fix_wirenet_body.h"
 #include "wirenet_fix_args.h"
@@ -47,7 +49,12 @@ using WireNet::FixArgs::vector3;
 namespace FixArgs = WireNet::FixArgs;
 
 const int NHIST = 4;      // tangential spring x y z, in contact
-const int NRESTART = 45;
+// The global restart record: its version, the body state (NSTATE values), the floors' sums
+// (NFLOOR_SUMS) and their springs (3 per floor and point). Versions 1 (36 or 37 values) and 2 (45)
+// had no version number: their first value, the free flag, is 0 or 1.
+const int RECORD_VERSION = 3;
+const int NSTATE = 45;
+const int NFLOOR_SUMS = 7;  // work, dissipation, impulse (3), floors, points per floor
 
 bool is_number(const char *s)
 {
@@ -108,6 +115,69 @@ WireNet::PolyhedronShape read_obj(const std::string &path)
   return WireNet::PolyhedronShape(v, f, "polyhedron");
 }
 
+// 'floor PX PY PZ NX NY NZ kn KN kt KT mu MU [gamma_n G]' at arg[k]; k advances past it
+FixWirenetBody::Floor floor_value(int narg, char **arg, int &k)
+{
+  if (k + 6 >= narg)
+    throw std::invalid_argument("'floor' needs a point and a normal: floor PX PY PZ NX NY NZ kn KN kt KT mu MU [gamma_n G]");
+  FixWirenetBody::Floor fl;
+  Vector3d n;
+  for (int d = 0; d < 3; d++) {
+    fl.point[d] = number(arg[k + 1 + d], "floor point value");
+    n[d] = number(arg[k + 4 + d], "floor normal value");
+  }
+  if (!(n.norm() > 0.0)) throw std::invalid_argument("floor normal must not be 0 0 0");
+  fl.normal = n.normalized();
+  k += 7;
+  // the law's values follow in this order, so that a node-law keyword after them is not taken
+  const auto named = [&](const char *key, const char *after, double lo, bool lo_open) {
+    if (k >= narg || strcmp(arg[k], key) != 0)
+      throw std::invalid_argument(std::string("floor needs '") + key + "' after " + after + " (got " +
+                                  (k < narg ? std::string("'") + arg[k] + "'" : std::string("nothing")) + ")");
+    return value(narg, arg, k, std::string("floor ") + key, lo, lo_open);
+  };
+  fl.law.kn = named("kn", "its normal", 0.0, true);
+  fl.law.kt = named("kt", "its kn", 0.0, false);
+  fl.law.mu = named("mu", "its kt", 0.0, false);
+  fl.law.gamma_n = k < narg && strcmp(arg[k], "gamma_n") == 0 ? value(narg, arg, k, "floor gamma_n", 0.0, false) : 0.0;
+  if (fl.law.mu > 0.0 && fl.law.kt == 0.0)
+    throw std::invalid_argument("floor mu " + text(fl.law.mu) + " needs a tangential stiffness: floor kt > 0");
+  return fl;
+}
+
+// One contact point of the body with a floor: `depth` > 0 below the plane of unit normal n, vc
+// the body's velocity at the point, m the body's mass (the damping's effective mass: the
+// floor's is infinite), s the point's tangential spring (advanced only if advance). A floor
+// pushes and never pulls: the damping is capped where it would (a point leaving the floor fast).
+// Out: the force F on the body and its viscous part Fd; the slider's dissipation is added to
+// `slip`. Returns the elastic energy of the contact.
+double floor_contact(const FixWirenetBody::Law &law, double depth, const Vector3d &n, const Vector3d &vc, double m,
+                     double dt, bool advance, Vector3d &s, Vector3d &F, Vector3d &Fd, double &slip)
+{
+  const double fe = law.kn * depth, vn = vc.dot(n);
+  const double fn = std::max(0.0, fe - law.gamma_n * m * vn);
+  Fd = (fn - fe) * n;
+  F = fn * n;
+  const double e = 0.5 * fe * depth;
+  if (law.mu == 0.0) return e;  // frictionless: no spring (kt may be 0)
+  // the plane does not turn: the spring stays in its tangent plane
+  const double f_start = law.kt * s.norm();
+  Vector3d st = s;
+  if (advance) st += dt * (vc - vn * n);
+  const double fmax = law.mu * fn, ft = law.kt * st.norm();
+  if (ft > fmax) {
+    // The slider gives way by (ft - fmax) / kt, its force going from the spring's at the start of
+    // the step to the cap (trapezoid): exact for steady sliding (f_start = fmax) and for a cap
+    // that shrinks under a spring at rest (ft = f_start: the energy the cap releases). The
+    // released energy (ft^2 - fmax^2) / 2kt would count the step's own stretch as slip too.
+    if (advance) slip += 0.5 * (f_start + fmax) * (ft - fmax) / law.kt;
+    st *= fmax / ft;
+  }
+  if (advance) s = st;
+  F -= law.kt * st;
+  return e + 0.5 * law.kt * st.squaredNorm();
+}
+
 // Linear spring-dashpot normal force, tangential spring with Coulomb limit. delta > 0 overlap,
 // n unit normal from the body to the node, r radius and m mass of the node; x, v, w: position,
 // velocity and angular velocity of the node (i) and of the body's reference point (b); h the
@@ -158,7 +228,9 @@ FixWirenetBody::FixWirenetBody(LAMMPS *lmp, int narg, char **arg) :
   f_body(Vector3d::Zero()), t_body(Vector3d::Zero()), ncontact(0.0), elastic(0.0), work_body(0.0),
   work_body_mine(0.0), work_nodes_mine(0.0), work_nodes_all(0.0), f_mean(Vector3d::Zero()), reduced_at(-1),
   hist(NULL), hist_rows(0), contacts_pending(false), candidates_pos(Vector3d::Zero()),
-  candidates_valid(false), margin(0.0)
+  candidates_valid(false), margin(0.0), f_floor(Vector3d::Zero()), t_floor(Vector3d::Zero()),
+  fd_floor(Vector3d::Zero()), td_floor(Vector3d::Zero()), floor_points(0.0), floor_elastic(0.0),
+  work_floor(0.0), dissipated_floor(0.0), impulse_floor(Vector3d::Zero())
 {
   for (double &v : sums_mine) v = 0.0;
   windows.reset(1, 3);
@@ -294,6 +366,8 @@ void FixWirenetBody::parse(int narg, char **arg)
       windows.reset(FixArgs::steps(narg, arg, k, key), 3);
     } else if (key == "damping") {
       damping = damping_value(narg, arg, k);
+    } else if (key == "floor") {
+      floors.push_back(floor_value(narg, arg, k));
     } else {
       throw std::invalid_argument("unknown keyword '" + key + "'");
     }
@@ -305,6 +379,7 @@ void FixWirenetBody::parse(int narg, char **arg)
     if (have_inertia) throw std::invalid_argument("'inertia' needs a free body: give 'mass M'");
     if (have_gravity) throw std::invalid_argument("'gravity' acts on a free body only: give 'mass M'");
     if (damping > 0.0) throw std::invalid_argument("'damping' acts on a free body only: give 'mass M'");
+    if (!floors.empty()) throw std::invalid_argument("'floor' needs a free body: give 'mass M' (a kinematic body goes where it is driven)");
     vel_kin = v0;
     omega_kin = w0;
     return;
@@ -325,6 +400,17 @@ void FixWirenetBody::parse(int narg, char **arg)
   body->v = v0;
   body->set_omega(w0);
   q_shape_in_body = (body->q.conjugate() * q0).normalized();
+  define_floors();
+}
+
+// The body's points that can touch the floors, and a spring at rest for each floor and point
+void FixWirenetBody::define_floors()
+{
+  if (floors.empty()) return;
+  Vector3d p;
+  if (shape->corners()) corners = *shape->corners();
+  else if (!shape->support(Vector3d::UnitZ(), p)) throw std::invalid_argument("a " + shape->name() + " cannot touch a floor");
+  floor_springs.assign(floors.size() * floor_npoints(), Vector3d::Zero());
 }
 
 int FixWirenetBody::setmask()
@@ -375,6 +461,7 @@ void FixWirenetBody::setup(int)
 {
   update_pose();
   compute_contacts(false);
+  if (!floors.empty()) compute_floors(false);
 }
 
 void FixWirenetBody::initial_integrate(int)
@@ -392,6 +479,7 @@ void FixWirenetBody::initial_integrate(int)
 void FixWirenetBody::post_force(int)
 {
   compute_contacts(true);
+  if (!floors.empty()) compute_floors(true);
 }
 
 void FixWirenetBody::compute_contacts(bool advance)
@@ -480,6 +568,45 @@ void FixWirenetBody::compute_contacts(bool advance)
   contacts_pending = advance;
 }
 
+// Every point of the body below a floor is a contact (a polyhedron's corners, a smooth shape's
+// deepest point); a point off the floor forgets its spring. The body's state is the same on every
+// rank, and so are these forces: no reduction.
+void FixWirenetBody::compute_floors(bool advance)
+{
+  const double dt = update->dt, m = body->mass();
+  const Matrix3d R = q_shape.toRotationMatrix();
+  const int np = floor_npoints();
+  f_floor = t_floor = fd_floor = td_floor = Vector3d::Zero();
+  floor_points = floor_elastic = 0.0;
+  double slip = 0.0;
+  for (size_t j = 0; j < floors.size(); j++) {
+    const Floor &fl = floors[j];
+    for (int k = 0; k < np; k++) {
+      Vector3d local;
+      if (corners.empty()) shape->support(R.transpose() * -fl.normal, local);
+      else local = corners[k];
+      const Vector3d arm = R * local;
+      const double depth = (fl.point - pos - arm).dot(fl.normal);
+      Vector3d &s = floor_springs[j * np + k];
+      if (!(depth > 0.0)) {
+        if (advance) {
+          slip += 0.5 * fl.law.kt * s.squaredNorm();  // the point left: its spring's energy is lost
+          s.setZero();
+        }
+        continue;
+      }
+      Vector3d F, Fd;
+      floor_elastic += floor_contact(fl.law, depth, fl.normal, vel + omega.cross(arm), m, dt, advance, s, F, Fd, slip);
+      f_floor += F;
+      t_floor += arm.cross(F);
+      fd_floor += Fd;
+      td_floor += arm.cross(Fd);
+      floor_points += 1.0;
+    }
+  }
+  if (advance) dissipated_floor += slip;
+}
+
 // The outputs' sums over the ranks, in one reduction per step asked: a kinematic body's force,
 // torque, contacts, elastic energy and work; the work on the nodes; the window mean force.
 void FixWirenetBody::reduce()
@@ -516,6 +643,9 @@ void FixWirenetBody::final_integrate()
   // kinematic body's work is linear in the contacts' forces, so each rank sums its own
   if (free_body) {
     work_body += dt * (f_body.dot(vel) + t_body.dot(omega));
+    // the floors' work, and the damping's power at the same velocities: its share is dissipated
+    work_floor += dt * (f_floor.dot(vel) + t_floor.dot(omega));
+    dissipated_floor -= dt * (fd_floor.dot(vel) + td_floor.dot(omega));
   } else {
     const Vector3d f_mine(sums_mine[0], sums_mine[1], sums_mine[2]), t_mine(sums_mine[3], sums_mine[4], sums_mine[5]);
     work_body_mine += dt * (f_mine.dot(vel) + t_mine.dot(omega));
@@ -523,19 +653,20 @@ void FixWirenetBody::final_integrate()
   reduced_at = -1;
 }
 
-// Half kick of the free body by its contacts and weight, less the local damping at the current
-// velocity; the damping's work is its impulse times the mean velocity over the kick
+// Half kick of the free body by its contacts, the floors and its weight, less the local damping
+// at the current velocity; the damping's work is its impulse times the mean velocity over the kick
 void FixWirenetBody::kick(double h)
 {
-  const Vector3d f = f_body + body->mass() * gravity;
+  const Vector3d f = f_body + f_floor + body->mass() * gravity, t = t_body + t_floor;
+  impulse_floor += h * f_floor;
   if (damping == 0.0) {
-    body->kick(f, t_body, h);
+    body->kick(f, t, h);
     return;
   }
   const Vector3d v_before = body->v, w_before = body->omega();
   const Vector3d fd = locally_damped(f, v_before, damping) - f;
-  const Vector3d td = locally_damped(t_body, w_before, damping) - t_body;
-  body->kick(f + fd, t_body + td, h);
+  const Vector3d td = locally_damped(t, w_before, damping) - t;
+  body->kick(f + fd, t + td, h);
   work_damping += 0.5 * h * (fd.dot(v_before + body->v) + td.dot(w_before + body->omega()));
 }
 
@@ -611,6 +742,13 @@ double FixWirenetBody::compute_vector(int n)
   if (n < 6) return t_body[n - 3];
   if (n < 9) return pos[n - 6];
   if (n < 12) return vel[n - 9];
+  if (n > 28) {
+    if (n == 29) return work_floor;
+    if (n == 30) return floor_elastic;
+    if (n < 34) return impulse_floor[n - 31];
+    if (n == 34) return floor_points;
+    return dissipated_floor;
+  }
   if (n == 12) return ncontact;
   if (n == 13) return work_nodes_all;
   if (n == 14) return work_body;
@@ -633,8 +771,9 @@ void FixWirenetBody::write_restart(FILE *fp)
   reduced_at = -1;
   reduce();
   if (comm->me != 0) return;
-  double list[NRESTART];
-  for (int k = 0; k < NRESTART; k++) list[k] = 0.0;
+  std::vector<double> record(1 + NSTATE + NFLOOR_SUMS + 3 * floor_springs.size(), 0.0);
+  record[0] = RECORD_VERSION;
+  double *list = &record[1];
   list[0] = free_body ? 1.0 : 0.0;
   list[1] = elapsed;
   list[2] = work_body;
@@ -660,14 +799,28 @@ void FixWirenetBody::write_restart(FILE *fp)
     to_array(q_shape_in_body, &list[17]);
     list[25] = body->mass();
   }
-  int size = NRESTART * sizeof(double);
+  double *fl = list + NSTATE;
+  fl[0] = work_floor;
+  fl[1] = dissipated_floor;
+  for (int d = 0; d < 3; d++) fl[2 + d] = impulse_floor[d];
+  fl[5] = floors.size();
+  fl[6] = floors.empty() ? 0 : floor_npoints();
+  for (size_t k = 0; k < floor_springs.size(); k++)
+    for (int d = 0; d < 3; d++) fl[NFLOOR_SUMS + 3 * k + d] = floor_springs[k][d];
+  int size = record.size() * sizeof(double);
   fwrite(&size, sizeof(int), 1, fp);
-  fwrite(list, sizeof(double), NRESTART, fp);
+  fwrite(record.data(), sizeof(double), record.size(), fp);
 }
 
 void FixWirenetBody::restart(char *buf)
 {
-  const double *list = (const double *)buf;
+  const double *record = (const double *)buf;
+  if (record[0] != RECORD_VERSION) {
+    const std::string old = record[0] == 0.0 || record[0] == 1.0 ? "1 or 2 (WireNet before the floors)" : text(record[0]);
+    error->all(FLERR, ("fix wirenet/body: the restart file's record is of version " + old + ", this build reads version " +
+                       std::to_string(RECORD_VERSION) + " only: write the restart file again with this build").c_str());
+  }
+  const double *list = record + 1;
   if ((list[0] != 0.0) != free_body)
     error->all(FLERR, free_body ? "fix wirenet/body: the restart file holds a kinematic body, this fix defines a free one"
                                 : "fix wirenet/body: the restart file holds a free body, this fix defines a kinematic one");
@@ -699,7 +852,25 @@ void FixWirenetBody::restart(char *buf)
     body->q = from_array(&list[13]);
     q_shape_in_body = from_array(&list[17]);
   }
+  restart_floors(list + NSTATE);
   update_pose();
+}
+
+// The floors' sums and springs; a file without floors lets this definition add them
+void FixWirenetBody::restart_floors(const double *fl)
+{
+  work_floor = fl[0];
+  dissipated_floor = fl[1];
+  impulse_floor = Vector3d(fl[2], fl[3], fl[4]);
+  const int nfloors = static_cast<int>(fl[5]), npoints = static_cast<int>(fl[6]);
+  if (nfloors == 0) return;
+  if (nfloors != (int)floors.size() || npoints != floor_npoints())
+    error->all(FLERR, ("fix wirenet/body: the restart file holds " + std::to_string(nfloors) + " floor(s) of " +
+                       std::to_string(npoints) + " contact point(s) each, this fix defines " + std::to_string(floors.size()) +
+                       (floors.empty() ? "" : " of " + std::to_string(floor_npoints())) +
+                       ": define the same floors, in the same order").c_str());
+  for (size_t k = 0; k < floor_springs.size(); k++)
+    floor_springs[k] = Vector3d(fl[NFLOOR_SUMS + 3 * k], fl[NFLOOR_SUMS + 3 * k + 1], fl[NFLOOR_SUMS + 3 * k + 2]);
 }
 
 // ---- per-atom tangential history ----------------------------------------------------------
@@ -757,5 +928,5 @@ int FixWirenetBody::maxsize_restart() { return NHIST + 1; }
 double FixWirenetBody::memory_usage()
 {
   return (double)atom->nmax * NHIST * sizeof(double) + contacts.capacity() * sizeof(NodeContact) +
-         candidates.capacity() * sizeof(int);
+         candidates.capacity() * sizeof(int) + floor_springs.capacity() * sizeof(Vector3d);
 }

@@ -2,7 +2,9 @@
    truncated cube, convex polyhedron) in contact with the node spheres of its group: linear
    normal spring with optional viscous damping, tangential spring with Coulomb friction (history
    per atom). The body moves kinematically (prescribed velocity, optional ramp, spin) or as a
-   free 6-DOF body (WireNet::RigidBody). See doc/fix_wirenet_body.md. */
+   free 6-DOF body (WireNet::RigidBody); a free body may also touch fixed planes (floors: the
+   ground, a slope) with the same law at its corners or support point. See
+   doc/fix_wirenet_body.md. */
 
 #ifdef FIX_CLASS
 
@@ -27,8 +29,9 @@ namespace LAMMPS_NS {
 class FixWirenetBody : public Fix {
  public:
   // global vector: F(3) T(3) x(3) v(3) ncontact W_nodes W_body omega(3) KE PE q(4) E_elastic
-  // F_mean(3) (the force's mean over the last window of `mean` steps) W_damping
-  static const int NVECTOR = 29;
+  // F_mean(3) (the force's mean over the last window of `mean` steps) W_damping, then the
+  // floors': W_floor E_floor J_floor(3) (impulse) npoints D_floor (friction and damping)
+  static const int NVECTOR = 36;
 
   FixWirenetBody(class LAMMPS *, int, char **);
   ~FixWirenetBody();
@@ -64,6 +67,11 @@ class FixWirenetBody : public Fix {
   struct NodeContact {
     int i;                    // local atom
     Eigen::Vector3d f, t;     // force and torque on the node
+  };
+  // a fixed plane that a free body touches (keyword floor): the half-space behind it is solid
+  struct Floor {
+    Eigen::Vector3d point, normal;   // unit normal, out of the ground
+    Law law;                         // gamma_n per unit mass of the body
   };
 
  private:
@@ -113,11 +121,27 @@ class FixWirenetBody : public Fix {
   Eigen::Vector3d candidates_pos;
   bool candidates_valid;
   double margin;                       // the neighbour skin when LIGGGHTS checks every step, else 0
+  // Floors (free body only). The body's points that can touch them: a polyhedron's corners (shape
+  // frame), or for a smooth shape (no corners) its support point. A tangential spring per floor
+  // and point, [floor * npoints + point], zero while the point is off the floor.
+  std::vector<Floor> floors;
+  std::vector<Eigen::Vector3d> corners;
+  std::vector<Eigen::Vector3d> floor_springs;
+  // results of the last floor evaluation (identical on every rank): force and torque on the
+  // body, their viscous part, contact points, elastic energy; sums since the fix was defined
+  Eigen::Vector3d f_floor, t_floor, fd_floor, td_floor;
+  double floor_points, floor_elastic;
+  double work_floor, dissipated_floor;
+  Eigen::Vector3d impulse_floor;
 
   void parse(int narg, char **arg);
   void modify_velocity(int narg, char **arg);
   void update_pose();
   void compute_contacts(bool advance);
+  int floor_npoints() const { return corners.empty() ? 1 : (int)corners.size(); }
+  void define_floors();
+  void compute_floors(bool advance);
+  void restart_floors(const double *record);
   void reduce();
   void kick(double h);
 };

@@ -164,6 +164,15 @@ bool EllipsoidShape::unit_inertia(Matrix3d &I) const
   return true;
 }
 
+// the maximum of u . x on x^T A^-2 x = 1 (A = diag(a, b, c)) is at x = A^2 u / |A u|
+bool EllipsoidShape::support(const Vector3d &u, Vector3d &p) const
+{
+  const Vector3d a(axes_[0], axes_[1], axes_[2]);
+  const Vector3d au = a.cwiseProduct(u);
+  p = a.cwiseProduct(au) / au.norm();
+  return true;
+}
+
 double EllipsoidShape::distance_sorted_2d(double e0, double e1, double y0, double y1, double &x0, double &x1)
 {
   if (y1 > 0.0) {
@@ -418,6 +427,12 @@ PolyhedronShape::PolyhedronShape(const std::vector<Vector3d> &vertices, const st
       throw std::invalid_argument(name + ": not closed (edge " + std::to_string(e.first.first + 1) + "-" +
                                   std::to_string(e.first.second + 1) + " belongs to " + std::to_string(e.second) + " face(s))");
   if (!(volume_ > 0.0)) throw std::invalid_argument(name + ": encloses no volume");
+  // an OBJ file may repeat a vertex or list one on no face: neither may touch a floor
+  std::vector<bool> used(nv, false);
+  for (const std::vector<int> &loop : f_)
+    for (int i : loop) used[i] = true;
+  for (int i = 0; i < nv; i++)
+    if (used[i] && std::find(corners_.begin(), corners_.end(), v_[i]) == corners_.end()) corners_.push_back(v_[i]);
   centroid_ /= volume_;
   second_moment_ /= volume_;
   centred_ = centroid_.norm() <= 1e-9 * bound_;

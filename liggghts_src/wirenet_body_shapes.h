@@ -37,6 +37,13 @@ class BodyShape {
   // false if the shape has none (plane) or it is not implemented
   virtual bool unit_inertia(Eigen::Matrix3d &) const { return false; }
   virtual std::string name() const = 0;
+  // The body's points that can touch a fixed plane (fix wirenet/body floor): a polyhedron's
+  // corners, each a contact point of its own (a block on a face rests on all of them); NULL for a
+  // smooth shape, which touches a plane at its support point only.
+  virtual const std::vector<Eigen::Vector3d> *corners() const { return NULL; }
+  // Point of a smooth shape farthest along the unit vector u (its deepest point below a plane of
+  // outward normal -u); false if the shape has none (a polyhedron: its corners, a plane, a cone)
+  virtual bool support(const Eigen::Vector3d &, Eigen::Vector3d &) const { return false; }
 };
 
 class SphereShape : public BodyShape {
@@ -45,6 +52,7 @@ class SphereShape : public BodyShape {
   void query(const Eigen::Vector3d &p, SurfacePoint &out) const;
   double bounding_radius() const { return r_; }
   bool unit_inertia(Eigen::Matrix3d &I) const;
+  bool support(const Eigen::Vector3d &u, Eigen::Vector3d &p) const { p = r_ * u; return true; }
   std::string name() const { return "sphere"; }
  private:
   double r_;
@@ -62,6 +70,7 @@ class EllipsoidShape : public BodyShape {
   // since the ball of that radius fits in (k - 1) times the ellipsoid
   double distance_bound(const Eigen::Vector3d &p) const;
   bool unit_inertia(Eigen::Matrix3d &I) const;
+  bool support(const Eigen::Vector3d &u, Eigen::Vector3d &p) const;
   std::string name() const { return "spheroid"; }
   // Eberly's algorithm in the sorted frame: e0 >= e1 >= e2 > 0, y >= 0 componentwise; returns
   // the unsigned distance and the nearest point x.
@@ -122,6 +131,7 @@ class PolyhedronShape : public BodyShape {
   double distance_bound(const Eigen::Vector3d &p) const;  // the largest height above a face plane
   bool centred() const { return centred_; }
   bool unit_inertia(Eigen::Matrix3d &I) const;
+  const std::vector<Eigen::Vector3d> *corners() const { return &corners_; }
   std::string name() const { return name_; }
   double volume() const { return volume_; }
   Eigen::Vector3d centroid() const { return centroid_; }
@@ -129,6 +139,7 @@ class PolyhedronShape : public BodyShape {
  private:
   std::vector<Eigen::Vector3d> v_;
   std::vector<std::vector<int> > f_;
+  std::vector<Eigen::Vector3d> corners_;     // the vertices on faces, each once
   std::vector<Eigen::Vector3d> normal_;
   std::vector<double> offset_;               // face plane: normal . x = offset
   double bound_, volume_;

@@ -30,7 +30,9 @@ from test_wire_errors import check_error
 
 # global vector of fix wirenet/body (1-based index -> name)
 COLUMNS = ["fx", "fy", "fz", "tx", "ty", "tz", "x", "y", "z", "vx", "vy", "vz", "n", "w_nodes", "w_body",
-           "wx", "wy", "wz", "ke", "pe", "qw", "qx", "qy", "qz", "e_el", "fmx", "fmy", "fmz", "w_damp"]
+           "wx", "wy", "wz", "ke", "pe", "qw", "qx", "qy", "qz", "e_el", "fmx", "fmy", "fmz", "w_damp",
+           # the floors' (test_body_floor.py)
+           "w_floor", "e_floor", "jx", "jy", "jz", "n_floor", "d_floor"]
 
 KN = 1e6
 MDROP = 1.0

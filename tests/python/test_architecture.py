@@ -199,7 +199,6 @@ def test_the_deck_check_finds_a_stated_default(tmp_path):
                                       ("inputs/include/part.in", 2, "speed", by_var["speed"])]
 
 
-@pytest.mark.xfail(strict=True, reason="decks still state defaults: being removed")
 def test_no_deck_states_a_default_of_a_key():
     """A key's default lives in its declaration (runner/schema.py, runner/kinds/*.py) or, for a
     material number, in materials.in; a deck that states `variable NAME index VALUE` for a key's

@@ -447,3 +447,20 @@ def test_fence_rest_settled():
     assert mark({"residual_height_at": "end of impact"}) == " (end)"
     assert mark({"residual_height_at": "rest", "rest_settled": False}) == " (ropes still moving)"
     assert mark({"residual_height_at": "rest", "rest_settled": True}) == ""
+
+
+def test_fence_comparison_pairs_fences_of_one_dissipation_model():
+    """The post-load claim at fence scale compares a compound and a square fence hit by the
+    same block under the same dissipation model (as the claims do, postprocess/claims.py): a
+    compound fence under the physical model is no match for a square one under local damping."""
+    def fence(net, model, base):
+        return {"kind": "fence", "status": "ok", "mode": "quick", "dissipation": model,
+                "fence": {"net": net, "block_energy": 1250.0, "post_base_peak": base,
+                          "anchor_peak": 2.0 * base, "dissipation": model}}
+    summaries = {"fence_compound": fence("compound", "physical", 1.0),
+                 "fence_square_local": fence("square", "local", 4.0)}
+    assert report_module.fence_comparison(summaries) is None
+    summaries["fence_square"] = fence("square", "physical", 2.0)
+    comparison = report_module.fence_comparison(summaries)
+    assert (comparison["compound"], comparison["square"]) == ("fence_compound", "fence_square")
+    assert comparison["post_base_ratio"] == 0.5

@@ -33,8 +33,9 @@ import pytest
 import lmp
 from postprocess.datafile import read_data
 from runner import api, budget, kinds
+from runner.dissipation import SETTLE_ALPHA
 from runner.kinds import fence
-from runner.kinds.fence import ALPHA_RELAX, GAP, REST_VISCOUS, component_types, rest_probe
+from runner.kinds.fence import GAP, REST_VISCOUS, component_types, rest_probe
 
 FENCE = ["--modules", "1", "--spacing", "4", "--height", "2", "--net", "hex",
          "--anchor-distance", "2", "--bottom-anchor-distance", "1", "--upslope-distance", "3",
@@ -58,7 +59,7 @@ def key_variables():
     (materials, contacts, gravity, damping, impacts), as the runner passes them: the decks
     state no defaults of their own (kinds.of(case).key_variables())."""
     case = api.load('kind = "fence"\n[panel]\nnet = "hex"\n[contact]\nkn = 1e7\nks = 1e6\n'
-                    '[damping]\nlocal = 0.1\n')
+                    '[damping]\nlocal = 0.1\nbond = 0.0\n')
     return kinds.of(case).key_variables()
 
 
@@ -100,13 +101,17 @@ def block(folder, meta):
 def settle(folder, np=1, impacts=1):
     prefix, meta = generate(folder)
     section = meta["posts"]["section"]
-    var = dict(key_variables(), layers=1, alpha_relax=ALPHA_RELAX,
-               inc=lmp.ROOT / "inputs" / "include", data=f"{prefix}.data", shackles=f"{prefix}.shackles",
+    var = dict(key_variables(), layers=1, alpha_relax=SETTLE_ALPHA,
+               inc=lmp.ROOT / "inputs" / "include", data=f"{prefix}.data", types=f"{prefix}.types.in",
+               shackles=f"{prefix}.shackles",
                support_d=meta["ropes"]["support"]["diameter"], upslope_d=meta["ropes"]["upslope"]["diameter"],
                post_A=section["A"], post_Iy=section["Iy"], post_Iz=section["Iz"], post_J=section["J"],
                ghost=2.5 * meta["max_bond_length"], dt=DT, relax_steps=STEPS, every=EVERY, out=folder)
     var.update(block(folder, meta), every=IMPACT_EVERY, relax_steps=STEPS // IMPACT_EVERY * IMPACT_EVERY,
                dump_every=IMPACT_EVERY, frame_every=IMPACT_STEPS // 10)
+    # the settling: all relax_steps at the impact's step and the true masses, in rows of every
+    # (the deck's settle_ke 0 and settle_mass 1: no early end, no heavier light nodes)
+    var.update(dt_settle=DT, settle_every=IMPACT_EVERY, settle_window=IMPACT_EVERY)
     # no rest after an impact unless impacts = 2 (the SEL test)
     var.update(rest_steps=0, rest_chunk=IMPACT_EVERY, rest_ke=0, rest_viscous=0, rest_still=0,
                rest_window=IMPACT_EVERY, rest_x0=0, rest_x1=0, rest_zsplit=0)
@@ -118,7 +123,8 @@ def settle(folder, np=1, impacts=1):
     # index variables defined first win over the deck's own defaults, as -var does
     deck = "".join(f"variable {k} index {deck_value(v)}\n" for k, v in var.items())
     deck += (lmp.ROOT / "inputs" / "fence.in").read_text()
-    return meta, lmp.run_deck(deck, folder, np=np, name="in.fence")
+    # (a fence settles for 250000 steps: up to some minutes on a busy 2-core machine)
+    return meta, lmp.run_deck(deck, folder, np=np, name="in.fence", timeout=1800)
 
 
 @pytest.fixture(scope="module")
@@ -290,7 +296,8 @@ def test_the_second_block_meets_the_fence_as_the_first_left_it(second):
     ids, types, pos = read_state(folder / "impact_2" / "unloaded.dump")
     assert len(ids) == meta["counts"]["atoms"]
     target, n = np.asarray(meta["impact_target"]), np.asarray(meta["normal"])
-    foot = (types <= 8) & (np.hypot(pos[:, 0] - target[0], pos[:, 2] - target[2]) < 0.5)
+    net = [int(k) for k, role in meta["atom_types"].items() if role.startswith(("hex_", "square_"))]
+    foot = np.isin(types, net) & (np.hypot(pos[:, 0] - target[0], pos[:, 2] - target[2]) < 0.5)
     ahead = np.max((pos[foot] - target) @ n) + 0.0054 + 0.005 + BLOCK["side"] / 2
     released = np.array([t["x"][0], t["y"][0], t["z"][0]])
     assert np.linalg.norm(released - (target + ahead * n)) < 1e-6
@@ -326,16 +333,17 @@ def test_the_block_comes_to_rest_in_the_fence(second):
     meta, first, _, folder = second
     # the rest damps with the runner's viscous part (local damping alone leaves creeping ropes)
     log = (folder / "log.lammps").read_text()
-    assert f"rest: damping: local 0.7, viscous {REST_VISCOUS} 1/s on the nodes" in log
+    assert f"rest: damping: local {SETTLE_ALPHA:g}, viscous {REST_VISCOUS} 1/s on the nodes" in log
     rows = np.loadtxt(folder / "rest.csv", delimiter=",", skiprows=1, ndmin=2)
     assert rows[-1, 1] < 0.1 * rows[0, 1]
     endings = [rest_ending(np.loadtxt(folder / name, delimiter=",", skiprows=1, ndmin=2))
                for name in ("rest.csv", "impact_2/unloaded.csv", "impact_2/rest.csv")]
     assert "still" in endings, endings
     ids, types, pos = read_state(folder / "rest.dump")
-    rope = (types == 9) & (pos[:, 0] >= -2.0) & (pos[:, 0] <= 2.0)
+    rope_type = next(int(k) for k, role in meta["atom_types"].items() if role == "support_rope")
+    rope = (types == rope_type) & (pos[:, 0] >= -2.0) & (pos[:, 0] <= 2.0)
     atoms = read_data(folder / "fence.data").atoms          # id type x y z, as generated
-    top = rope & np.isin(ids, atoms[(atoms[:, 1] == 9) & (atoms[:, 4] > 1.0), 0].astype(int))
+    top = rope & np.isin(ids, atoms[(atoms[:, 1] == rope_type) & (atoms[:, 4] > 1.0), 0].astype(int))
     bottom = rope & ~top
     assert top.any() and bottom.any()
     # write_dump writes 6 digits (1e-5 m at z < 10 m)

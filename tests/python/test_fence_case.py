@@ -1,8 +1,8 @@
 """The fence study as a user types it (`./wirenet run fence --quick`, issue #18): the compound
 and the square net in the same three-module fence, each hit by the quick block, from the case
 files of inputs/cases/ to the report. Checked:
-- each case closes its energy budget and balances momentum within 1e-3 (runner/fence.py from
-  the deck's own tallies);
+- each case closes its energy budget and balances momentum within 1e-3 (runner/kinds/fence.py
+  from the deck's own tallies);
 - the block is stopped within the module (braking distance > 0, residual height above the
   guideline's 50 % of category A for this small impact);
 - supports.csv names every anchor and post base of the generator's JSON, and the peak of each
@@ -29,7 +29,7 @@ def study(tmp_path_factory):
     out = tmp_path_factory.mktemp("fence_study")
     env = dict(os.environ, WIRENET_SETUP="skip", WIRENET_BUILD=str(lmp.BUILD))
     p = subprocess.run([str(DRIVER), "run", "fence", "--quick", "--out", str(out)],
-                       capture_output=True, text=True, env=env, timeout=1800)
+                       capture_output=True, text=True, env=env, timeout=3600)
     assert p.returncode == 0, p.stderr[-2000:] + p.stdout[-2000:]
     return out
 
@@ -46,6 +46,10 @@ def test_budget_and_momentum_close(study, name):
     assert m["momentum"]["error"] < 1e-3
     assert m["energy"]["initial_energy"] == pytest.approx(m["block"]["energy"], rel=0.05)
     assert m["dt"] <= 0.5 * min(m["dt_stable_bonds"], m["dt_stable_contact"]) * (1 + 1e-12)
+    # half the stable step of bonds and contact together: omega^2 = omega_b^2 + omega_c^2
+    # (doc/compute_wirenet_timestep.md), dt_b = 2 / omega_b, dt_c = 2 / omega_c
+    together = 1.0 / np.sqrt(m["dt_stable_bonds"] ** -2 + m["dt_stable_contact"] ** -2)
+    assert m["dt"] == pytest.approx(0.5 * together, rel=1e-9)
 
 
 @pytest.mark.parametrize("name", ["fence_compound", "fence_square"])
@@ -110,24 +114,29 @@ def test_report_splits_the_energy_per_component(study):
 
 
 def test_residual_height_is_the_least_gap_over_the_middle_module():
-    """runner.fence.residual_height on a made-up fence of 3 modules (posts at x = -15, -5, 5,
-    15): the top rope sags to z = 2 at x = 0 and to z = 1 at x = 10 (outside the middle module),
-    the bottom rope lies at z = 0.5 under the middle: 2 - 0.5 = 1.5."""
+    """runner.kinds.fence.residual_height on a made-up fence of 3 modules (posts at x = -15, -5,
+    5, 15): the top rope sags to z = 2 at x = 0 and to z = 1 at x = 10 (outside the middle
+    module), the bottom rope lies at z = 0.5 under the middle: 2 - 0.5 = 1.5. The rope nodes are
+    those of the JSON's atom type 'support_rope' (9 here; the net's nodes, type 1, are not)."""
     import types
-    from runner import fence as runner_fence
+    from postprocess.datafile import DataFile
+    from runner.kinds import fence as runner_fence
     xs = np.arange(-20.0, 20.5, 0.5)
     top_z = 5.0 - 3.0 * np.exp(-xs ** 2) - 4.0 * np.exp(-(xs - 10.0) ** 2)
     bottom_z = np.where(np.abs(xs) <= 5.0, 0.5, 0.0)
     n = len(xs)
     ids = np.arange(1, 2 * n + 1)
-    atoms = np.zeros((2 * n, 7))
-    atoms[:, 0], atoms[:, 1] = ids, 9
+    atoms = np.zeros((2 * n + 1, 8))
+    atoms[:, 0], atoms[:, 1] = np.r_[ids, 2 * n + 1], 9
     atoms[:n, 4], atoms[n:, 4] = 5.0, 0.0                 # data file: top at 5 m, bottom at 0
+    atoms[-1, 1], atoms[-1, 4] = 1, 2.5                   # a net node between the ropes
     setup = types.SimpleNamespace(meta={"fence": {"modules": 3, "post_x": [-15, -5, 5, 15],
-                                                  "height": 5.0}})
-    pos = np.column_stack([np.r_[xs, xs], np.zeros(2 * n), np.r_[top_z, bottom_z]])
-    data = types.SimpleNamespace(atoms=atoms)
-    assert runner_fence.residual_height(setup, (ids, pos), data) == pytest.approx(1.5, abs=1e-9)
+                                                  "height": 5.0},
+                                        "atom_types": {"1": "hex_node", "9": "support_rope"}})
+    pos = np.column_stack([np.r_[xs, xs, 0.0], np.zeros(2 * n + 1), np.r_[top_z, bottom_z, 1.9]])
+    data = DataFile(atoms, np.zeros((0, 4)))
+    frame = (np.r_[ids, 2 * n + 1], pos)
+    assert runner_fence.residual_height(setup, frame, data) == pytest.approx(1.5, abs=1e-9)
 
 
 def test_a_time_step_above_the_stable_one_is_refused(tmp_path):
@@ -143,15 +152,29 @@ def test_a_time_step_above_the_stable_one_is_refused(tmp_path):
     assert not (tmp_path / "fence_compound" / "run").exists()
 
 
+def fence_columns():
+    """The columns of fence.csv as the deck names them (include/fence_impact.in)."""
+    text = (lmp.ROOT / "inputs" / "include" / "fence_impact.in").read_text()
+    line = next(l for l in text.splitlines() if l.split()[:2] == ["variable", "fence_columns"])
+    return line.split()[3].split(",")
+
+
 def test_deck_table_reader_names_the_file(tmp_path):
-    from postprocess import fence as post_fence
     from postprocess.errors import PostprocessError
+    from runner.kinds import fence as runner_fence
     with pytest.raises(PostprocessError, match="fence.csv: No such file"):
-        post_fence.read_table(tmp_path)
-    (tmp_path / "fence.csv").write_text(",".join(post_fence.COLUMNS) + "\n# Fix print output\n" +
-                                        ",".join("0" for _ in post_fence.COLUMNS) + "\n")
+        runner_fence.read_table(tmp_path)
+    columns = fence_columns()
+    (tmp_path / "fence.csv").write_text(",".join(columns) + "\n# Fix print output\n" +
+                                        ",".join("0" for _ in columns) + "\n")
     with pytest.raises(PostprocessError, match="fence.csv: fewer than two rows"):
-        post_fence.read_table(tmp_path)
+        runner_fence.read_table(tmp_path)
+    # a column the reader needs, missing from the header: named
+    kept = [c for c in columns if c != "w_friction"]
+    (tmp_path / "fence.csv").write_text(",".join(kept) + "\n" + "\n".join(
+        ",".join("0" for _ in kept) for _ in range(3)) + "\n")
+    with pytest.raises(PostprocessError, match="missing column w_friction"):
+        runner_fence.read_table(tmp_path)
 
 
 @pytest.fixture(scope="module")
@@ -162,7 +185,7 @@ def sel(tmp_path_factory):
     env = dict(os.environ, WIRENET_SETUP="skip", WIRENET_BUILD=str(lmp.BUILD))
     p = subprocess.run([str(DRIVER), "run", "fence_sel", "--quick", "--set", "fence.modules=1",
                         "--set", "fence.block_mass=100", "--set", "fence.block_side=0.35",
-                        "--set", "panel.net=hex", "--out", str(out)], capture_output=True, text=True, env=env, timeout=1800)
+                        "--set", "panel.net=hex", "--out", str(out)], capture_output=True, text=True, env=env, timeout=3600)
     assert p.returncode == 0, p.stderr[-2000:] + p.stdout[-2000:]
     return out
 
@@ -193,10 +216,10 @@ def test_sel_reports_both_impacts(sel):
 
 
 def test_the_end_of_impact_frame_is_not_the_rest(tmp_path):
-    """The frames go on through the rest: runner.fence.last_nodes(path, up_to) returns the last
-    frame at or before the impact's last step (the residual height at the end of the impact),
-    not the rest's last frame; without up_to the last frame."""
-    from runner import fence as runner_fence
+    """The frames go on through the rest: runner.kinds.fence.last_nodes(path, up_to) returns
+    the last frame at or before the impact's last step (the residual height at the end of the
+    impact), not the rest's last frame; without up_to the last frame."""
+    from runner.kinds import fence as runner_fence
     frames = ""
     for step, z in ((0, 1.0), (100, 2.0), (200, 3.0)):
         frames += (f"ITEM: TIMESTEP\n{step}\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS mm mm mm\n"
@@ -212,8 +235,8 @@ def test_a_rest_file_without_the_probe_column_is_refused(tmp_path):
     """rest.csv must hold time,ke,gap rows (include/fence_rest.in): an older two-column file
     is one clear error naming the file, not an index error."""
     from postprocess.errors import PostprocessError
-    from runner import fence as runner_fence
+    from runner.kinds import fence as runner_fence
     (tmp_path / "rest.dump").write_text("")
     (tmp_path / "rest.csv").write_text("time,ke\n0.1,5.0\n0.2,4.0\n")
-    with pytest.raises(PostprocessError, match="rest.csv: expected rows of time,ke,gap"):
+    with pytest.raises(PostprocessError, match="rest.csv:1: missing column gap"):
         runner_fence.read_rest(tmp_path)

@@ -51,7 +51,8 @@ void addHexOptions(Options& o, const std::string& pre) {
     o.addOptionalNumber(pre + "areal-mass", "kg/m2", "if set, hex node mass = areal mass x W x H / nodes");
     o.addNumber("snap", d.snapFraction, "-", "boundary merge tolerance as a fraction of the shortest lattice bond");
     o.addString("placement", placementName(d.placement), "hex lattice: twist (a twist on the centre), wire (a single-wire "
-                "midpoint there) or corner (a twist on the lower-left corner, as YADE's hexaNet)");
+                "midpoint there), corner (a twist on the lower-left corner, as YADE's hexaNet) or symmetric (the odd "
+                "rows of twists on both x edges, as YADE's hexaNet with startAtCorner=False, isSymmetric=True)");
     o.addString("selvedge", d.selvedge ? "loop" : "none", "hex edge wire: loop (a selvedge bond between consecutive edge "
                 "nodes) or none (no edge wire, as YADE's hexaNet)");
 }
@@ -223,7 +224,7 @@ HexParams hexParams(const Options& o, const std::string& pre) {
         p.arealMass = o.num(pre + "areal-mass");
     }
     if (!parsePlacement(o.str("placement"), p.placement))
-        throw UsageError("--placement must be twist, wire or corner (got " + o.str("placement") + ")");
+        throw UsageError("--placement must be twist, wire, corner or symmetric (got " + o.str("placement") + ")");
     p.selvedge = o.choice("selvedge", {"loop", "none"}) == "loop";
     return p;
 }

@@ -21,12 +21,13 @@ const char* placementName(Placement p) {
         case Placement::Twist: return "twist";
         case Placement::Wire: return "wire";
         case Placement::Corner: return "corner";
+        case Placement::Symmetric: return "symmetric";
     }
     return "twist";
 }
 
 bool parsePlacement(const std::string& text, Placement& p) {
-    for (Placement c : {Placement::Twist, Placement::Wire, Placement::Corner})
+    for (Placement c : {Placement::Twist, Placement::Wire, Placement::Corner, Placement::Symmetric})
         if (text == placementName(c)) {
             p = c;
             return true;
@@ -42,6 +43,16 @@ Eigen::Vector2d HexParams::latticeOrigin() const {
         case Placement::Wire: return {-0.25 * axisDistance, -0.5 * rowPitch()};
         // The bottom end of twist (0, 0) on the lower-left corner (YADE's startAtCorner).
         case Placement::Corner: return {-0.5 * width, -0.5 * height + 0.5 * twistLength};
+        // Row 0 from the lower edge upwards, as Corner; in x the twist columns x = q a/2 stay
+        // symmetric about 0 and the odd rows hold the outermost one in the panel, q = m (or
+        // within the snap tolerance of its edge, which puts it on the edge: W = m a). Row 0
+        // holds the columns of the other parity: its first twist at (1 - m) a/2, which is
+        // -W/2 + a/2 for W = m a (YADE's startAtCorner=False, isSymmetric=True).
+        case Placement::Symmetric: {
+            const double half = 0.5 * axisDistance;
+            const double m = std::floor((0.5 * width + snapTolerance()) / half);
+            return {(1 - m) * half, -0.5 * height + 0.5 * twistLength};
+        }
     }
     return {0.0, 0.0};
 }
@@ -215,6 +226,11 @@ NetModel HexPanel::build() const {
 
     // Row k: twists centred at y = k * pitch + o.y; twist columns at x = q * half + o.x with
     // q - k even. Twist placement: o = 0, row 0 on the x axis, the panel mirror symmetric.
+    // Symmetric placement: o.x is a whole number s of half columns (0 or +-1, up to the rounding
+    // of the reduction): x = (q + s) * half, so that the panel is mirror symmetric bit for bit
+    // (the middle column exactly on x = 0).
+    const bool columns = p_.placement == Placement::Symmetric;
+    const long s = columns ? std::lround(o.x() / half) : 0;
     const int K = int(std::ceil((Y + pitch) / pitch)) + 1;
     const int Q = int(std::ceil(X / half)) + 2;
     const int nq = 2 * Q + 1;
@@ -223,7 +239,7 @@ NetModel HexPanel::build() const {
     for (int k = -K; k <= K; ++k)
         for (int q = -Q; q <= Q; ++q) {
             if ((q - k) % 2 != 0) continue;
-            const double x = q * half + o.x(), yc = k * pitch + o.y();
+            const double x = columns ? double(q + s) * half : q * half + o.x(), yc = k * pitch + o.y();
             bottom[slot(k, q)] = g.addLatticeNode({x, yc - 0.5 * t});
             top[slot(k, q)] = g.addLatticeNode({x, yc + 0.5 * t});
         }

@@ -10,10 +10,13 @@ namespace wirenet {
 // Where the lattice sits in the panel (doc/wirenet-gen.md, "Lattice placement"):
 // Twist  - the twist of row 0 centred on the origin (mirror symmetric in x and y);
 // Wire   - the midpoint of a single-wire bond on the origin (point symmetric);
-// Corner - a twist from the lower-left corner upwards, as YADE's pack.hexaNet(startAtCorner=True).
-enum class Placement { Twist, Wire, Corner };
+// Corner - a twist from the lower-left corner upwards, as YADE's pack.hexaNet(startAtCorner=True);
+// Symmetric - mirror symmetric in x with the odd rows of twists on the outermost twist columns
+//   (the x edges when W is a multiple of a) and row 0 from the lower edge upwards, as YADE's
+//   pack.hexaNet(startAtCorner=False, isSymmetric=True).
+enum class Placement { Twist, Wire, Corner, Symmetric };
 const char* placementName(Placement p);
-// Parses "twist", "wire" or "corner"; false for anything else.
+// Parses "twist", "wire", "corner" or "symmetric"; false for anything else.
 bool parsePlacement(const std::string& text, Placement& p);
 
 struct HexParams {

@@ -41,8 +41,8 @@ bad "--snap must be < 0.5 (got 0.7)"         hex --snap 0.7 --out p
 bad "give --node-diameter or --node-radius, not both" hex --node-diameter 0.01 --node-radius 0.005 --out p
 bad "--node-radius must be > 0 (got 0)"      hex --node-radius 0 --out p
 bad "give --hex-node-diameter or --hex-node-radius, not both" compound --hex-node-diameter 0.01 --hex-node-radius 0.005 --out p
-bad "--placement must be twist, wire or corner (got middle)" hex --placement middle --out p
-bad "--placement must be twist, wire or corner (got Corner)" compound --placement Corner --out p
+bad "--placement must be twist, wire, corner or symmetric (got middle)" hex --placement middle --out p
+bad "--placement must be twist, wire, corner or symmetric (got Corner)" compound --placement Corner --out p
 bad "--placement must not be empty (got '')" hex --placement= --out p
 bad "--selvedge must be loop or none (got yes)" hex --selvedge yes --out p
 bad "--selvedge must be loop or none (got None)" compound --selvedge None --out p
@@ -149,7 +149,7 @@ for sub in hex compound; do
     cmp -s <(tail -n +2 "$sub.data") <(tail -n +2 "${sub}_twist.data") ||
         fail "$sub --placement twist differs from the default"
     grep -q '"placement": "twist"' "$sub.json" || fail "$sub.json lacks \"placement\": \"twist\""
-    for placement in wire corner; do
+    for placement in wire corner symmetric; do
         "$GEN" $sub --placement $placement --out "${sub}_$placement" >/dev/null || fail "$sub --placement $placement failed"
         grep -q "\"placement\": \"$placement\"" "${sub}_$placement.json" || fail "${sub}_$placement.json lacks the placement"
     done
@@ -165,6 +165,10 @@ awk '/^Bonds/{b=1; next} b && NF == 4 && $2 == 3 {n++} END {exit n > 0}' hex_bar
 # Corner: the first atom is the lower-left corner (-W/2, -H/2), then the top of the edge twist.
 awk '/^Atoms/{a=1; next} a && NF >= 7 {print $2, $3, $4; n++} n == 2 {exit}' hex_corner.data |
     tr '\n' ' ' | grep -qx "4 -1.5 -1.5 2 -1.5 -1.46 " || fail "hex --placement corner does not start at the corner"
+# Symmetric: YADE's tensile-test net (hexaNet(0.0108, [0,0,0], 1.0, 0.55, 0.08, 0.04, 0.04,
+# startAtCorner=False, isSymmetric=True)): 178 nodes, DT 81, SW 144 and the selvedge loop.
+"$GEN" hex --width 0.96 --height 0.52 --placement symmetric --node-radius 0.0108 --out yade_tensile |
+    grep -q "178 atoms, 265 bonds (DT 81, SW 144, selvedge 40)" || fail "hex --placement symmetric: not YADE's tensile net"
 # A failed run does not clobber an earlier good output.
 cp hex.data before.data
 "$GEN" hex --width -1 --out hex 2>/dev/null

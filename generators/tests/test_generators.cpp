@@ -172,6 +172,7 @@ static void checkHexInvariants(const NetModel& m, const HexParams& p) {
         CHECK(mirrorSymmetric(m, 1), "mirror symmetry y -> -y");
     }
     if (p.placement == Placement::Wire) CHECK(symmetric(m, -1, -1), "point symmetry (x, y) -> (-x, -y)");
+    if (p.placement == Placement::Symmetric) CHECK(mirrorSymmetric(m, 0), "symmetric: mirror symmetry x -> -x");
     CHECK(everyNodeBonded(m), "every node has a bond");
     CHECK(noDuplicateBonds(m), "no duplicate bonds");
     CHECK(minNodeDistance(m) >= p.snapTolerance() - 1e-12, "duplicate or too close nodes: %g",
@@ -334,6 +335,200 @@ static void checkCornerPanel(const NetModel& m, const HexParams& p) {
     CHECK(clipped == 0, "corner: %ld nodes off the YADE lattice (%ld on it)", clipped, lattice);
 }
 
+// --placement symmetric: the twist columns x = q a/2 symmetric about 0, the odd rows i (counted
+// from the lower edge, row 0's bottom ends on it) on the columns q = m (mod 2), m a/2 the
+// outermost column in the panel. True if (x, y) is the end of such a twist (within 1e-9 m).
+static long outermostColumn(const HexParams& p) {
+    return long(std::floor((p.width / 2 + p.snapTolerance()) / (p.axisDistance / 2)));
+}
+static bool onSymmetricLattice(const HexParams& p, double x, double y) {
+    const double u = x / (p.axisDistance / 2), pitch = p.rowPitch();
+    const long q = std::lround(u), m = outermostColumn(p);
+    for (double end : {0.0, p.twistLength}) {
+        const double v = (y + p.height / 2 - end) / pitch;
+        const long i = std::lround(v);
+        if (i >= 0 && (q - m + i + 1) % 2 == 0 && std::abs(u - q) * p.axisDistance / 2 < 1e-9 &&
+            std::abs(v - i) * pitch < 1e-9)
+            return true;
+    }
+    return false;
+}
+
+// Any size: mirror symmetric in x (checkHexInvariants), and off the x edges and the top edge
+// every node is a twist end of that lattice; the outermost twist columns belong to row 1.
+static void checkSymmetricPanel(const NetModel& m, const HexParams& p) {
+    const double X = p.width / 2, Y = p.height / 2, half = p.axisDistance / 2;
+    long off = 0, outer = 0;
+    double xo = outermostColumn(p) * half;
+    if (X - xo <= p.snapTolerance()) xo = X;  // snapped onto the edge
+    for (const auto& n : m.nodes) {
+        if (std::abs(n.x.x()) != X && n.x.y() != Y) off += !onSymmetricLattice(p, n.x.x(), n.x.y());
+        const double yb = -Y + p.rowPitch();
+        outer += std::abs(std::abs(n.x.x()) - xo) < 1e-9 &&
+                 (std::abs(n.x.y() - yb) < 1e-9 || std::abs(n.x.y() - yb - p.twistLength) < 1e-9);
+    }
+    CHECK(off == 0, "symmetric %g x %g: %ld nodes off the lattice", p.width, p.height, off);
+    CHECK(outer == 4, "symmetric %g x %g: row 1 is not on the outermost columns (%ld nodes there)",
+          p.width, p.height, outer);
+}
+
+// YADE's pack.hexaNet(startAtCorner=False, isSymmetric=True) with nx, ny and its lower-left
+// corner on (-W/2, -H/2), W = (nx - 1) a, H = ny t + (ny - 1) h (py/pack/pack.py): row i
+// (i = 0 .. ny - 1) of twists from y0 + i (t + h) to y0 + i (t + h) + t; the even rows hold
+// nx - 1 twists at x0 + a/2 + j a, the odd rows nx at x0 + j a; a sphere on each corner that no
+// twist end occupies. Its links as the tensile example makes them (yade_tensile.md): a DT link
+// along every twist off the x edges, an SW link from the top of each twist to the bottoms of
+// the twists of the next row a/2 to either side, and along each x edge the edge wire between
+// consecutive nodes (the edge twists included); the corners keep only that link.
+struct YadeSymNet {
+    std::set<Key> nodes;
+    std::set<std::tuple<int, Key, Key>> links;  // (WireNet bond type, ends in ascending order)
+};
+static std::tuple<int, Key, Key> link(int type, Key u, Key v) { return {type, std::min(u, v), std::max(u, v)}; }
+static YadeSymNet yadeSymmetricNet(const HexParams& p, long nx, long ny) {
+    const double a = p.axisDistance, t = p.twistLength, pitch = p.rowPitch();
+    const double x0 = -p.width / 2, y0 = -p.height / 2;
+    YadeSymNet net;
+    std::vector<std::vector<double>> rows(ny);
+    for (long i = 0; i < ny; ++i)
+        for (long j = 0; j < (i % 2 ? nx : nx - 1); ++j) rows[i].push_back(x0 + (i % 2 ? 0 : a / 2) + j * a);
+    std::map<double, std::vector<Key>> xEdge;  // x = -+W/2: the edge's nodes, bottom to top
+    for (long i = 0; i < ny; ++i)
+        for (double x : rows[i]) {
+            const Key b = key2(x, y0 + i * pitch), u = key2(x, y0 + i * pitch + t);
+            net.nodes.insert(b);
+            net.nodes.insert(u);
+            if (std::abs(std::abs(x) + x0) < 1e-9) {
+                xEdge[x < 0 ? -1 : 1].push_back(b);
+                xEdge[x < 0 ? -1 : 1].push_back(u);
+            } else {
+                net.links.insert(link(btype::DT, b, u));
+            }
+            if (i + 1 < ny)
+                for (double x1 : rows[i + 1])
+                    if (std::abs(std::abs(x1 - x) - a / 2) < 1e-9)
+                        net.links.insert(link(btype::SW, u, key2(x1, y0 + (i + 1) * pitch)));
+        }
+    for (double sx : {-1.0, 1.0})
+        for (double sy : {-1.0, 1.0}) {
+            const Key c = key2(sx * x0, sy * y0);
+            if (net.nodes.insert(c).second) xEdge[-sx].push_back(c);
+        }
+    for (auto& [side, edge] : xEdge) {
+        std::sort(edge.begin(), edge.end(), [](const Key& u, const Key& v) { return u.second < v.second; });
+        for (size_t k = 0; k + 1 < edge.size(); ++k) net.links.insert(link(btype::Selvedge, edge[k], edge[k + 1]));
+    }
+    return net;
+}
+
+// The generated bonds as (type, ends) by position.
+static std::set<std::tuple<int, Key, Key>> bondSet(const NetModel& m) {
+    std::set<std::tuple<int, Key, Key>> s;
+    for (const auto& b : m.bonds)
+        s.insert(link(b.type, key2(m.nodes[b.a].x.x(), m.nodes[b.a].x.y()), key2(m.nodes[b.b].x.x(), m.nodes[b.b].x.y())));
+    return s;
+}
+
+static void testHexSymmetric() {
+    std::printf("hex placement symmetric (YADE's hexaNet, startAtCorner=False, isSymmetric=True)\n");
+    // (13, 7): the net of YADE's examples/WireMatPM/wiretensiltest.py, 0.96 m x 0.52 m.
+    for (auto [nx, ny] : std::vector<std::pair<long, long>>{{13, 7}, {12, 6}, {7, 3}, {20, 10}, {38, 37}, {6, 5}, {5, 4}}) {
+        HexParams p;
+        p.placement = Placement::Symmetric;
+        p.nodeDiameter = 2 * 0.0108;
+        p.width = (nx - 1) * p.axisDistance;
+        p.height = ny * p.twistLength + (ny - 1) * p.rise;
+        const NetModel m = HexPanel(p).build();
+        checkHexInvariants(m, p);
+        checkSymmetricPanel(m, p);
+        const YadeSymNet yade = yadeSymmetricNet(p, nx, ny);
+        // Every node where hexaNet puts a sphere, to 1e-9 m, and no other.
+        CHECK(nodeSet(m) == yade.nodes, "symmetric nx %ld ny %ld: nodes differ from hexaNet", nx, ny);
+        double worst = 0;
+        for (const auto& n : m.nodes) {
+            const Key k = key2(n.x.x(), n.x.y());
+            worst = std::max({worst, std::abs(n.x.x() - k.first * 1e-9), std::abs(n.x.y() - k.second * 1e-9)});
+        }
+        CHECK(worst < 1e-9, "symmetric nx %ld ny %ld: a node %g m off the nm grid", nx, ny, worst);
+        // Counts: twists 2 per row pair, corners added where no twist end is (the bottom ones
+        // always: row 0 starts a/2 in; the top ones when the last row is even).
+        const long even = (ny + 1) / 2, odd = ny / 2, twists = even * (nx - 1) + odd * nx;
+        const long corners = ny % 2 ? 4 : 2;
+        CHECK_EQ(long(m.nodes.size()), 2 * twists + corners);
+        CHECK_EQ(countBonds(m, btype::DT), twists - 2 * odd);
+        CHECK_EQ(countBonds(m, btype::SW), 2 * (nx - 1) * (ny - 1));
+        // Bond by bond: YADE's links, and WireNet's selvedge along the y edges besides.
+        const auto bonds = bondSet(m);
+        long extra = 0, missing = 0;
+        for (const auto& l : yade.links) missing += !bonds.count(l);
+        for (const auto& b : bonds)
+            if (!yade.links.count(b)) {
+                const auto& [type, u, v] = b;
+                const bool yEdge = type == btype::Selvedge && u.second == v.second &&
+                                   std::abs(u.second * 1e-9) > p.height / 2 - 1e-9;
+                CHECK(yEdge, "symmetric nx %ld ny %ld: bond type %d (%g, %g)-(%g, %g) not in hexaNet's net", nx, ny,
+                      type, u.first * 1e-9, u.second * 1e-9, v.first * 1e-9, v.second * 1e-9);
+                ++extra;
+            }
+        CHECK(missing == 0, "symmetric nx %ld ny %ld: %ld of hexaNet's links missing", nx, ny, missing);
+        // The y edges: corner, the row's ends a apart, corner (nx + 1 nodes at the bottom, nx + 1
+        // at the top for odd ny, else nx: the last, odd row reaches the corners).
+        CHECK_EQ(extra, nx + (ny % 2 ? nx : nx - 1));
+        // Lengths: DT t, SW sqrt((a/2)^2 + h^2); along an x edge t (the edge twists), 2 (t + h) - t
+        // between them and t + h to a corner; along a y edge a/2 to a corner, a between twists.
+        const double t = p.twistLength, pitch = p.rowPitch(), a = p.axisDistance;
+        CHECK(histogram(m, btype::DT) == (std::map<long, long>{{nm(t), twists - 2 * odd}}), "DT lengths");
+        CHECK(histogram(m, btype::SW) == (std::map<long, long>{{nm(p.swLength()), 2 * (nx - 1) * (ny - 1)}}), "SW lengths");
+        std::map<long, long> selv;
+        selv[nm(t)] += 2 * odd;
+        if (odd > 1) selv[nm(2 * pitch - t)] += 2 * (odd - 1);
+        selv[nm(pitch)] += 2 * (ny % 2 ? 2 : 1);
+        selv[nm(a / 2)] += ny % 2 ? 4 : 2;
+        selv[nm(a)] += nx - 2 + (ny % 2 ? nx - 2 : nx - 1);
+        CHECK(histogram(m, btype::Selvedge) == selv, "symmetric nx %ld ny %ld: selvedge lengths", nx, ny);
+        // Each corner: its x-edge link (hexaNet's, the tensile example keeps only that one) and
+        // the y-edge selvedge (WireNet's), nothing else (a top corner that is a twist end, ny
+        // even, is the top of an edge twist: no row above it).
+        for (const auto& n : m.nodes)
+            if (n.type == atype::HexCorner) {
+                long xLink = 0, yLink = 0, other = 0;
+                for (const auto& b : m.bonds) {
+                    if (b.a != &n - &m.nodes[0] && b.b != &n - &m.nodes[0]) continue;
+                    const auto& o = m.nodes[b.a == &n - &m.nodes[0] ? b.b : b.a].x;
+                    if (b.type == btype::Selvedge && o.x() == n.x.x()) ++xLink;
+                    else if (b.type == btype::Selvedge && o.y() == n.x.y()) ++yLink;
+                    else ++other;
+                }
+                CHECK(xLink == 1 && yLink == 1 && other == 0,
+                      "symmetric nx %ld ny %ld: corner (%g, %g) has %ld x-edge, %ld y-edge, %ld other bonds", nx, ny,
+                      n.x.x(), n.x.y(), xLink, yLink, other);
+            }
+        // `twist` has the same net when the middle row (ny odd) holds a twist on the centre.
+        HexParams tw = p;
+        tw.placement = Placement::Twist;
+        const bool same = ny % 2 == 1 && nx % 2 == ((ny - 1) / 2) % 2;
+        CHECK((nodeSet(HexPanel(tw).build()) == yade.nodes) == same, "symmetric nx %ld ny %ld: twist %s", nx, ny,
+              same ? "should coincide" : "should differ");
+        std::printf("  nx %2ld ny %2ld (%.2f x %.2f): atoms %zu, DT %ld SW %ld selvedge %ld (%ld along the y edges)%s\n",
+                    nx, ny, p.width, p.height, m.nodes.size(), countBonds(m, btype::DT), countBonds(m, btype::SW),
+                    countBonds(m, btype::Selvedge), extra, same ? ", = twist" : "");
+    }
+    // The tensile example's net, in YADE's numbers (doc/wirenet-gen.md; tests/reference/yade_tensile/).
+    HexParams p;
+    p.placement = Placement::Symmetric;
+    p.width = 0.96;
+    p.height = 0.52;
+    const NetModel m = HexPanel(p).build();
+    CHECK_EQ(long(m.nodes.size()), 178);
+    CHECK_EQ(countBonds(m, btype::DT), 81);
+    CHECK_EQ(countBonds(m, btype::SW), 144);
+    CHECK_EQ(countBonds(m, btype::Selvedge), 14 + 26);
+    CHECK(histogram(m, btype::Selvedge) == (std::map<long, long>{{nm(0.04), 6 + 4}, {nm(0.08), 4 + 22}, {nm(0.12), 4}}),
+          "tensile net: selvedge lengths");
+    CHECK(std::abs(p.latticeOrigin().x() + 0.44) < 1e-15 && std::abs(p.latticeOrigin().y() + 0.24) < 1e-15,
+          "tensile net: lattice origin (%g, %g)", p.latticeOrigin().x(), p.latticeOrigin().y());
+}
+
 static void testHexPlacement() {
     std::printf("hex lattice placement\n");
     for (auto [W, H] : std::vector<std::pair<double, double>>{{3, 3}, {2.5, 1.7}, {3.13, 2.91}, {1.0, 1.0}, {4.4, 2.2}}) {
@@ -351,10 +546,14 @@ static void testHexPlacement() {
         const NetModel corner = HexPanel(p).build();
         checkHexInvariants(corner, p);
         checkCornerPanel(corner, p);
-        std::printf("  %.2f x %.2f: atoms twist %zu wire %zu corner %zu\n", W, H, twist.nodes.size(),
-                    wire.nodes.size(), corner.nodes.size());
+        p.placement = Placement::Symmetric;
+        const NetModel sym = HexPanel(p).build();
+        checkHexInvariants(sym, p);
+        checkSymmetricPanel(sym, p);
+        std::printf("  %.2f x %.2f: atoms twist %zu wire %zu corner %zu symmetric %zu\n", W, H, twist.nodes.size(),
+                    wire.nodes.size(), corner.nodes.size(), sym.nodes.size());
         // Same lattice density: the counts differ only along the edges.
-        for (const NetModel* m : {&wire, &corner})
+        for (const NetModel* m : {&wire, &corner, &sym})
             CHECK(std::abs(double(m->nodes.size()) / twist.nodes.size() - 1) < 0.1, "atom count %zu vs %zu",
                   m->nodes.size(), twist.nodes.size());
     }
@@ -801,6 +1000,7 @@ static void testWriter() {
 int main() {
     testHex();
     testHexPlacement();
+    testHexSymmetric();
     testSquare();
     testCompound();
     testBeam();

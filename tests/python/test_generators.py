@@ -6,6 +6,7 @@ Binary: $WIRENET_BUILD/bin/wirenet-gen (default: <repo>/build/bin). Run with
 /usr/bin/python3 -m pytest tests/python/test_generators.py
 """
 
+import csv
 import json
 import math
 import os
@@ -216,6 +217,91 @@ def test_placement_corner_generic_size(tmp_path, kind):
     assert ((rel[:, 0] == 0) & (np.abs(rel[:, 1] - t) < 1e-9)).sum() == 1
 
 
+YADE_TENSILE = ROOT / "tests" / "reference" / "yade_tensile"
+
+
+def read_csv_rows(path):
+    with open(path, newline="") as handle:
+        return list(csv.DictReader(handle))
+
+
+def test_placement_symmetric_is_yade_tensile_net(tmp_path):
+    """--placement symmetric at 0.96 m x 0.52 m is the net YADE's tensile test builds with
+    hexaNet(..., startAtCorner=False, isSymmetric=True) (tests/reference/yade_tensile/): every
+    node within 1e-9 m, every one of YADE's 239 links a bond of its family and rest length; the
+    only other bonds are the selvedge along the clamped y edges, between nodes of one clamp."""
+    gen(tmp_path, "hex", "--width", "0.96", "--height", "0.52", "--placement", "symmetric",
+        "--node-radius", "0.0108", "--out", "t")
+    _, _, atoms, bonds = read_data(tmp_path / "t.data")
+    check_hex_edges(atoms, 0.96, 0.52)
+    nodes = read_csv_rows(YADE_TENSILE / "yade_tensile_net.csv")
+    links = read_csv_rows(YADE_TENSILE / "yade_tensile_links.csv")
+    assert len(nodes) == len(atoms) == 178 and len(links) == 239
+    # YADE's frame has the lower-left corner on the origin; WireNet's panel is centred.
+    yade = np.array([[float(n["x"]) - 0.48, float(n["y"]) - 0.26, float(n["z"])] for n in nodes])
+    x = atoms[:, 2:5]
+    dist = np.linalg.norm(yade[:, None, :] - x[None, :, :], axis=2)
+    match = dist.argmin(axis=1)  # YADE id -> WireNet atom index
+    assert len(set(match)) == 178
+    assert dist[np.arange(178), match].max() < 1e-9
+    assert np.allclose(atoms[match, 5], [2 * float(n["radius"]) for n in nodes], rtol=0, atol=1e-15)
+    assert np.allclose(node_masses(atoms)[match], [float(n["mass"]) for n in nodes], rtol=1e-12)
+    # YADE's clamps are WireNet's y edges (types 3, 4), its 3.4 mm edge nodes the x edges (2, 4).
+    types = atoms[match, 1].astype(int)
+    role = np.array([n["role"] for n in nodes])
+    y = x[match, 1]
+    assert np.all((role == "fixed") == (y == -0.26)) and np.all((role == "moving") == (y == 0.26))
+    assert np.all(np.isin(types[role != "free"], (3, 4))) and np.all(np.isin(types[role == "free"], (1, 2)))
+    assert np.all((np.array([n["material"] for n in nodes]) == "edge_3.4mm") == np.isin(types, (2, 4)))
+    # Bond by bond: WireNet's bond type of every YADE link, and its length.
+    family = {"DT": 1, "SW": 2, "selvedge": 3}
+    ours = {frozenset((int(a) - 1, int(b) - 1)): int(t) for t, a, b in bonds[:, 1:4]}
+    assert len(ours) == len(bonds)
+    length = dict(zip(ours, bond_lengths(atoms, bonds)))
+    theirs = set()
+    for link in links:
+        pair = frozenset((match[int(link["id1"])], match[int(link["id2"])]))
+        theirs.add(pair)
+        assert ours.get(pair) == family[link["family"]], link
+        assert abs(length[pair] - float(link["rest_length"])) < 1e-9, link
+    assert Counter(ours[p] for p in theirs) == {1: 81, 2: 144, 3: 14}
+    # The rest: 26 selvedge bonds along y = +-0.26 (2 of 0.04 m per edge from the corners, 11 of
+    # 0.08 m), both ends in the same clamp (held or moved alike: they never change length).
+    extra = [p for p in ours if p not in theirs]
+    assert len(extra) == 26 and all(ours[p] == 3 for p in extra)
+    inverse = {w: i for i, w in enumerate(match)}
+    for p in extra:
+        a, b = (inverse[w] for w in p)
+        assert role[a] == role[b] != "free" and y[a] == y[b]
+    assert Counter(round(length[p], 9) for p in extra) == {0.04: 4, 0.08: 22}
+    # The corners (YADE ids 0..3): YADE keeps only the vertical edge-wire link; WireNet that one
+    # and the y-edge selvedge.
+    for c in range(4):
+        at = match[c]
+        assert types[c] == 4
+        yade_links = [p for p in theirs if at in p]
+        ours_at = [p for p in ours if at in p]
+        assert len(yade_links) == 1 and len(ours_at) == 2
+        (other,) = yade_links[0] - {at}
+        assert x[other, 0] == x[at, 0] and abs(abs(x[other, 1] - x[at, 1]) - 0.08) < 1e-9
+    cell = json.loads((tmp_path / "t.json").read_text())["cells"]["hex"]
+    assert cell["placement"] == "symmetric"
+    assert np.allclose(cell["lattice_origin"], [-0.44, -0.24], atol=1e-12)
+
+
+@pytest.mark.parametrize("size", [("3", "3"), ("2.5", "1.7"), ("0.88", "0.44")])
+def test_placement_symmetric_mirror_x(tmp_path, size):
+    """Any size: mirror symmetric in x to the bit, row 0 from the lower edge upwards."""
+    W, H = float(size[0]), float(size[1])
+    gen(tmp_path, "hex", "--width", size[0], "--height", size[1], "--placement", "symmetric", "--out", "s")
+    _, _, atoms, _ = read_data(tmp_path / "s.data")
+    check_hex_edges(atoms, W, H)
+    exact = {(x, y, int(t)) for x, y, t in atoms[:, [2, 3, 1]]}
+    assert {(-x + 0.0, y, t) for x, y, t in exact} == exact
+    bottom = atoms[atoms[:, 3] == -H / 2]
+    assert len(bottom) > 2 and np.all(np.isin(bottom[:, 1], (3, 4)))
+
+
 def read_stl(path):
     tris = []
     cur = []
@@ -268,7 +354,7 @@ def run_liggghts(tmp_path, deck):
 
 @pytest.mark.skipif(not LIGGGHTS.exists(), reason="LIGGGHTS not built")
 @pytest.mark.parametrize("args", [["hex"], ["compound"], ["beam"], ["hex", "--placement", "wire"],
-                                  ["compound", "--placement", "corner"]])
+                                  ["compound", "--placement", "corner"], ["hex", "--placement", "symmetric"]])
 def test_liggghts_reads_data(tmp_path, args):
     gen(tmp_path, *args, "--out", "net")
     rc, out = run_liggghts(tmp_path, "units si\natom_style hybrid granular molecular\n"

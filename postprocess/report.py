@@ -5,6 +5,7 @@ their status; the paper's claims are judged on the cases that can show them
 (postprocess/claims.py), under each dissipation model the study holds.
 """
 
+import json
 import os
 
 
@@ -341,6 +342,38 @@ def elapsed(records):
     return max(b for _, b in spans) - min(a for a, _ in spans)
 
 
+SOURCES_NOTE = ("Every number of a case has its source beside it (inputs/include/materials.in, "
+                "the key tables of doc/case_files.md). These have none that was read: "
+                "'unverified' names a standard, paper or catalogue whose table was not read, "
+                "'none' is an estimate or a numerical choice. Their sensitivity (each at 0.8x and "
+                "1.2x: peak anchor and post-base forces, braking distance, residual height) is "
+                "the sensitivity study's (doc/fence.md \"Sources\").")
+
+
+def unsourced_rows(summaries):
+    """[key, value(s), cases, source] of the numbers without a read source, over all cases."""
+    seen = {}
+    for name, s in summaries.items():
+        for item in s.get("unsourced") or ():
+            row = seen.setdefault(item["key"], {"values": [], "cases": [],
+                                                "source": item["source"]})
+            text = json.dumps(item["value"]) if isinstance(item["value"], list) \
+                else fmt(item["value"])
+            if text not in row["values"]:
+                row["values"].append(text)
+            row["cases"].append(name)
+    return [[f"`{k}`", ", ".join(r["values"]), ", ".join(r["cases"]), r["source"]]
+            for k, r in sorted(seen.items())]
+
+
+def _sources_lines(summaries):
+    rows = unsourced_rows(summaries)
+    if not rows:
+        return []
+    return _section("Numbers without a source", SOURCES_NOTE) + _table(
+        ["key", "value", "cases", "what is known"], rows)
+
+
 def markdown(directory, summaries, verdicts, missing, figures, dissipation=()):
     lines = ["# WireNet study report", "", f"Study directory: `{os.path.abspath(directory)}`", "",
              "## Cases", "", "Peak forces are the largest |force| of platter.csv / block.csv; "
@@ -455,6 +488,7 @@ def markdown(directory, summaries, verdicts, missing, figures, dissipation=()):
         for claim in verdict:
             lines += _claim_lines(claim)
     lines += _dissipation_lines(list(dissipation), verdicts)
+    lines += _sources_lines(summaries)
     lines += ["", "## Cases that are missing or did not end ok", ""]
     absent = [f"- {name}: missing" for name in missing]
     absent += [f"- {n}: status {s['status']}" + (f": {s['verdict'] or s['error']}"

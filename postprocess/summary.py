@@ -59,7 +59,7 @@ def case_summary(case):
         summary["beam_max_nrmse"] = _peak_abs(beam["nrmse"])
     for key in ("first_rupture", "edge_force_peak", "wall_time", "cpu_time", "started", "finished", "ended_by",
                 "first_rope_rupture", "ended_at_drop", "bending", "bending_source", "panel",
-                "platter", "block", "verdict", "error"):
+                "platter", "block", "verdict", "error", "unsourced"):
         summary[key] = case.meta.get(key)
     if case.kind == "impact":
         energy = case.meta.get("energy") or {}

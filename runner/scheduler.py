@@ -22,7 +22,7 @@ from postprocess.errors import PostprocessError
 from postprocess.output import write_json
 from postprocess.record import CaseRecord
 
-from . import engine, kinds
+from . import engine, kinds, schema
 from .errors import StudyError
 from .kinds.base import RunContext
 
@@ -206,6 +206,12 @@ def run_cases(loaded, out, quick, np_):
     return [name for _, _, name, _ in units]
 
 
+def _with_sources(job):
+    """The facts, and the numbers of the case that no source read backs (the report's list)."""
+    missing = schema.unsourced(job.case)
+    return dict(job.facts, unsourced=missing) if missing else job.facts
+
+
 def _finish(job, out, quick, running, pending):
     """Record how a job ended; a failure stops the others and the study."""
     engine.forget_released(job.name)
@@ -226,7 +232,7 @@ def _finish(job, out, quick, running, pending):
     # the span of these, not the sum of the wall times
     write_record(case_dir, job.record(quick, status, wall_time=job.wall, cpu_time=cpu,
                                       started=job.start, finished=job.start + job.wall,
-                                      verdict=verdict, facts=job.facts))
+                                      verdict=verdict, facts=_with_sources(job)))
     if status == record.OK:
         print(f"{job.prefix}: done in {job.wall:.1f} s", flush=True)
     else:

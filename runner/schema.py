@@ -43,8 +43,10 @@ COMMON = [
     Key("panel.height", "number", 3.0, "m", "panel size along y (edges at +-H/2)", PAPER,
         low=0.1, high=100.0, quick=1.2),
     Key("panel.placement", "choice", "twist", "", "hex lattice placement: a twist at the panel "
-        "centre (twist), a single-wire bond at the centre (wire), or started at the lower-left "
-        "corner as YADE's hexaNet does (corner)", GENERATOR, choices=("twist", "wire", "corner")),
+        "centre (twist), a single-wire bond at the centre (wire), started at the lower-left "
+        "corner as YADE's hexaNet does (corner), or rows from the lower edge with twist columns "
+        "mirror-symmetric about x = 0 (symmetric: hexaNet's isSymmetric=True net)", GENERATOR,
+        choices=("twist", "wire", "corner", "symmetric")),
     Key("panel.selvedge", "choice", "loop", "", "edge wire of the hex mesh: a selvedge bond "
         "between consecutive edge nodes (loop), or none, the lattice's own bonds along the edges "
         "kept (YADE's hexaNet has no selvedge)", GENERATOR, choices=("loop", "none")),
@@ -165,6 +167,41 @@ def takers(key):
     return [k.name for k in kinds.ALL if applies(key, k.name)]
 
 
+# a source's first word says how far it goes (inputs/include/materials.in's header)
+UNVERIFIED, NONE, NUMERICAL = "unverified:", "none:", "numerical:"
+# numbers that act only when a switch is on (their source matters only then)
+ONLY_WITH = {"materials.rope_sigma_t": "materials.rope_strength",
+             "materials.rope_tau_c": "materials.rope_strength"}
+
+
+def source_of(key, kind):
+    """The source of the key's default in a case of this kind: the kind's own where it states
+    its own default (CaseKind.default_sources), else the key's."""
+    return kinds.BY_NAME[kind].default_sources.get(key.path, key.source)
+
+
+def unsourced(case):
+    """The numbers of a case with no source read (an 'unverified:' or 'none:' source, or none
+    at all), and the values they take in it: [{key, value, default, source}] (case.json's
+    `unsourced`; the report lists them with their sensitivity, doc/fence.md "Sources").
+    Numerical settings ('numerical:', results do not depend on them) are not listed."""
+    out = []
+    for key in KEYS:
+        if key.per_item or not applies(key, case.kind) or key.path not in case.values:
+            continue
+        if key.path in ONLY_WITH and not case.values.get(ONLY_WITH[key.path]):
+            continue
+        source = source_of(key, case.kind) or ""
+        if source.startswith(NUMERICAL) or not (
+                source.startswith((UNVERIFIED, NONE)) or source.startswith("no source")):
+            continue
+        default = default_of(key, case.kind)
+        out.append({"key": key.path, "value": case.values[key.path],
+                    "default": default if isinstance(default, (int, float, str, list)) else None,
+                    "source": source})
+    return out
+
+
 def default_of(key, kind, quick=False):
     """The key's default for a case of this kind (a value, ByKey or Derived), --quick's where it
     has one."""
@@ -180,4 +217,4 @@ def defaults_by_kind(key):
 
 
 __all__ = ["KEYS", "BY_PATH", "SECTIONS", "LIST_SECTIONS", "PAPER", "ByKey", "applies", "takers",
-           "default_of", "defaults_by_kind"]
+           "default_of", "defaults_by_kind", "source_of", "unsourced"]

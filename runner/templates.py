@@ -4,7 +4,7 @@ doc/case_files.md (tests/python/test_case_files.py keeps the doc equal to them).
 import textwrap
 
 from .params import is_computed
-from .schema import KEYS, PAPER, applies, default_of, defaults_by_kind
+from .schema import KEYS, PAPER, applies, default_of, defaults_by_kind, source_of
 
 SECTION_TITLES = {
     "": "the case", "panel": "[panel] the net (wirenet-gen)", "supports": "[supports] edges",
@@ -94,6 +94,13 @@ def kind_names():
     return kinds.NAMES
 
 
+def _source_text(key, taken):
+    """The key's source, and a kind's own where it states its own default with another."""
+    text = (key.source or "-").replace(PAPER, "paper")
+    own = [f"{n}: {source_of(key, n)}" for n in taken if source_of(key, n) != key.source]
+    return "; ".join([text] + own).replace("|", "/")
+
+
 def key_tables():
     """Markdown tables of every key, one per section."""
     out = []
@@ -109,6 +116,6 @@ def key_tables():
                        f"{k.range_text() or '-'} | {_default_text(k)} | "
                        f"{', '.join(taken) if len(taken) < len(kind_names()) else 'all'} | "
                        f"{k.doc.replace('|', '/')} | "
-                       f"{(k.source or '-').replace(PAPER, 'paper')} |")
+                       f"{_source_text(k, taken)} |")
         out.append("")
     return "\n".join(out)

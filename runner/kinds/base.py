@@ -46,6 +46,7 @@ class CaseKind:
     keys = ()              # the keys of its own section (runner/params.Key)
     takes = ()             # fnmatch patterns of every key it takes (its own and shared ones)
     defaults = {}          # its own defaults of shared keys: {path: value, ByKey or Derived}
+    default_sources = {}   # the sources of those of its own defaults that are not the key's
     not_taken = ""         # why a shared key it does not take is refused (completes the message)
     finished_file = ""     # the CSV of a case folder that shows the unit ended (resume)
     width = 1              # LIGGGHTS runs of a unit at the same time (the study's scheduler)

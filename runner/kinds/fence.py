@@ -37,7 +37,7 @@ from postprocess import record
 
 from ..block import Block
 from ..generator import generate
-from ..materials import bending_of, rope_strength_keyword
+from ..materials import MATERIALS, SOURCES, bending_of, rope_strength_keyword
 from ..panel import generator_options, node_masses
 from ..params import Key
 from .base import CaseKind
@@ -67,6 +67,15 @@ def _fence(name, type_, default, unit, doc, source, **kw):
     return Key(f"fence.{name}", type_, default, unit, doc, source, **kw)
 
 
+def _part(name, type_, unit, doc, **kw):
+    """A fence part's number: its default and source from inputs/include/materials.in."""
+    default = MATERIALS[name]
+    if type_ == "pairs":
+        values = [float(v) for v in default.split()]
+        default = [list(p) for p in zip(values[0::2], values[1::2])]
+    return _fence(name, type_, default, unit, doc, SOURCES[name], var=name, **kw)
+
+
 KEYS = (
     _fence("modules", "integer", 3, "", "functional modules (one net panel between two posts "
            "each)", EAD + " (three modules)", low=1, high=20),
@@ -87,8 +96,14 @@ KEYS = (
     _fence("speed", "number", 25.0, "m/s", "block speed against the fence normal, at the middle "
            "of the middle module", EAD + " (>= 25 m/s)", low=0.1, high=100.0, quick=5.0,
            var="speed"),
-    _fence("duration", "number", 0.8, "s", "simulated time after release", "doc/fence.md",
-           low=0.0, low_open=True, high=20.0, quick=0.15),
+    _fence("duration", "number", 0.8, "s", "longest simulated time after release (the impact "
+           "ends earlier: fence.impact_end)", "doc/fence.md", low=0.0, low_open=True, high=20.0,
+           quick=0.15),
+    _fence("impact_end", "number", 0.1, "s", "the impact ends this long after the block's largest "
+           "travel along the normal, once the block no longer moves into the fence (the peak "
+           "forces are past; the rest brings block and fence to rest: fence.rest_time); 0: the "
+           "whole fence.duration", "doc/fence.md (\"The impact's end\")", low=0.0, high=20.0,
+           var="impact_end"),
     _fence("settle_time", "number", 1.0, "s", "settling under gravity (damped) before the block "
            "is released", "doc/fence.md", low=0.0, low_open=True, high=20.0, quick=0.3),
     _fence("rest_time", "number", 1.0, "s", "after each impact, the block and the fence come "
@@ -110,6 +125,20 @@ KEYS = (
            low=0.0, high=1e-3),
     _fence("row_time", "number", 2e-3, "s", "time between rows of fence.csv and the CSVs made "
            "from it", "WireNet (runner/kinds/fence.py)", low=1e-6, high=1.0),
+    # the fence's parts (inputs/include/materials.in: the values and their sources)
+    _part("support_curve", "pairs", "-, Pa", "stress-strain table of the support and upslope "
+          "ropes on the gross area pi d^2/4: [[strain, stress], ...], rupture at the last point"),
+    _part("brake_force", "number", "N", "brake activation (plateau) force", low=1.0, high=1e7),
+    _part("brake_stroke", "number", "m", "brake stroke (it ruptures beyond)", low=0.0,
+          low_open=True, high=20.0),
+    _part("brake_k", "number", "N/m", "brake stiffness before it slides", low=1.0, high=1e12),
+    _part("shackle_kn", "number", "N/m", "shackle holding stiffness (fix wirenet/shackle)",
+          low=1.0, high=1e12),
+    _part("shackle_kt", "number", "N/m", "shackle stick stiffness along the rope", low=1.0,
+          high=1e12),
+    _part("shackle_mu", "number", "", "friction of a shackle sliding on its rope", low=0.0,
+          high=2.0),
+    _part("post_E", "number", "Pa", "Young's modulus of the post steel", low=1e8, high=1e12),
 )
 
 # The energy budget of a fence impact: each term from its own mechanism (include/fence_impact.in)
@@ -534,6 +563,10 @@ class Fence(CaseKind):
     # node radii of 5 mm (doc/fence.md); the physical model of the impacts (doc/impact.md)
     defaults = {"panel.net": "compound", "contact.kn": 1e7, "contact.ks": 1e6,
                 "damping.local": 0.0, "damping.bond": dissipation.STRUCTURAL_ZETA}
+    default_sources = {"contact.kn": "none: a penalty stiffness, the paper's 1e9 N/m / 100 (the "
+                                      "time step on 4 g nodes; doc/fence.md)",
+                       "contact.ks": "none: a penalty stiffness, contact.kn / 10 as the paper's",
+                       "damping.bond": dissipation.STRUCTURAL_ZETA_SOURCE}
     not_taken = ("not used by a fence case (module size: fence.spacing and fence.height; "
                  "supports: its anchors and posts; it settles for fence.settle_time)")
     finished_file = "block.csv"

@@ -229,6 +229,7 @@ class Impact(CaseKind):
     # the physical model (doc/impact.md, "Dissipation"): no damping of absolute velocity during
     # the impact; the bonds' structural damping, friction, plasticity and ruptures take the energy
     defaults = {"preload.mode": "settle", "damping.local": 0.0, "damping.bond": dissipation.STRUCTURAL_ZETA}
+    default_sources = {"damping.bond": dissipation.STRUCTURAL_ZETA_SOURCE}
     finished_file = "block.csv"
     WEIGHT = {"compound": 15, "hex": 8, "square": 2}
 

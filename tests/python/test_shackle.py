@@ -520,7 +520,8 @@ def test_reads_the_shackles_of_a_generated_fence(tmp_path, np_):
     """A small fence from `wirenet-gen fence` (doc/wirenet-gen.md): the fix reads its .shackles file,
     finds every atom and places every shackle. With `rest initial` no shackle pulls at the start;
     with `rest zero` the largest pull is kn times the largest distance of a shackle from its rope,
-    which the generator reports in the JSON (the gap g: why fence decks want `rest initial`)."""
+    which the generator reports in the JSON (the larger of the gaps, the post gap of the side
+    shackles: why fence decks want `rest initial`)."""
     import json
     import subprocess
     subprocess.run([str(lmp.GEN), "fence", "--modules", "1", "--spacing", "3", "--height", "2",

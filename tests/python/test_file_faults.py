@@ -1,6 +1,10 @@
 """Faults of LIGGGHTS' own file handling and error path (issue #43): each ends the run with one
 ERROR line naming the file and what is wrong, a non-zero exit, every rank stopping, no hang.
 
+- restart files (cmake/patches/0009): empty, cut in the header, cut among the atoms, a few bytes
+  short, on 1 and 2 ranks; a restart written before the patch (no layout record, no end marker) is
+  still read when complete and named when cut. LIGGGHTS hung (ignoring SIGTERM), corrupted its heap
+  on 2 ranks or accepted a file a few bytes short.
 - an error raised on one rank only (Error::one, patch 0008) ends the job without OpenMPI's
   MPI_ABORT banner.
 
@@ -53,6 +57,190 @@ def run(deck, workdir, np=1, umask=None, timeout=TIMEOUT):
 def no_banner(out):
     for bad in ("MPI_ABORT", "NOTE: invoking", "ORTE_ERROR_LOG"):
         assert bad not in out, f"{bad!r} in the output:\n{out[-2000:]}"
+
+
+# ---- restart files -------------------------------------------------------------------------------
+
+# Four nodes in a row, three wire bonds, a granular pair style (its restart section is read by
+# LIGGGHTS' pair code) and the bond history fix (global and per-atom restart data).
+RESTART_PREAMBLE = """units si
+atom_style hybrid granular molecular
+atom_modify map array sort 0 0
+boundary f f f
+newton off on
+communicate single vel yes
+processors * 1 1
+"""
+WRITE_DECK = RESTART_PREAMBLE + f"""read_data net.data
+neighbor 0.01 bin
+neigh_modify delay 0
+pair_style gran model hertz tangential history
+pair_coeff * *
+fix m1 all property/global youngsModulus peratomtype 1e7
+fix m2 all property/global poissonsRatio peratomtype 0.3
+fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5
+fix m4 all property/global coefficientFriction peratomtypepair 1 0.5
+bond_style wirenet
+bond_coeff 1 {GOOD}
+group ends id 1 4
+fix pull ends move linear 0.5 0 0
+timestep 1e-5
+run 20
+write_restart net.restart
+"""
+READ_DECK = RESTART_PREAMBLE + """read_restart {name}
+print "read $(atoms) atoms"
+"""
+
+
+@pytest.fixture(scope="module")
+def restart_file(tmp_path_factory):
+    """A restart file written by this build (with the layout record and the end marker)."""
+    wd = tmp_path_factory.mktemp("restart")
+    lmp.write_data(wd / "net.data", ATOMS, BONDS)
+    rc, out = run(WRITE_DECK, wd)
+    assert rc == 0 and not lmp.error_lines(out), out[-2000:]
+    return (wd / "net.restart").read_bytes()
+
+
+def layout(data):
+    """(offset of the layout record's values, the 7 values) of a restart written by this build:
+    flag 0 (version), its length and text, then flag 1000, count 7 and 7 int64."""
+    flag, n = struct.unpack_from("<ii", data, 0)
+    assert flag == 0
+    at = 8 + n
+    flag, count = struct.unpack_from("<ii", data, at)
+    assert (flag, count) == (1000, 7), "no layout record after the version record"
+    return at, struct.unpack_from("<7q", data, at + 8)
+
+
+def legacy(data):
+    """The same restart as LIGGGHTS wrote it before patch 0009: no layout record, no end marker."""
+    at, values = layout(data)
+    assert data[values[5]:] == b"WireNet restart\0"
+    return data[:at] + data[at + 8 + 56:values[5]]
+
+
+def read_cut(tmp_path, data, np):
+    (tmp_path / "cut.restart").write_bytes(data)
+    return run(READ_DECK.format(name="cut.restart"), tmp_path, np=np)
+
+
+@pytest.mark.parametrize("np_", [1, 2])
+def test_complete_restart_is_read(tmp_path, restart_file, np_):
+    rc, out = read_cut(tmp_path, restart_file, np_)
+    assert rc == 0 and "read 4 atoms" in out and "  3 bonds" in out, out[-2000:]
+
+
+@pytest.mark.parametrize("np_", [1, 2])
+def test_restart_written_before_the_layout_record_is_read(tmp_path, restart_file, np_):
+    rc, out = read_cut(tmp_path, legacy(restart_file), np_)
+    assert rc == 0 and "read 4 atoms" in out and "  3 bonds" in out, out[-2000:]
+
+
+def cut_points(data):
+    """name -> (bytes kept, phrase of the message)"""
+    _, L = layout(data)
+    size = L[6]
+    assert size == len(data)
+    full = f"(the complete file has {size} bytes)"
+    return {
+        "empty": (0, "restart file 'cut.restart' is empty (0 bytes)"),
+        "inside the version record": (20, "is truncated at byte 20, in its header section"),
+        "inside the header": (L[0] - 30, f"is truncated at byte {L[0] - 30}, in its header section {full}"),
+        "header only": (L[0], f"is truncated at byte {L[0]}, in its groups section {full}"),
+        "inside the force fields": (L[3] - 10, f"truncated at byte {L[3] - 10}, in its force fields section {full}"),
+        "among the atoms": ((L[4] + L[5]) // 2, f"truncated at byte {(L[4] + L[5]) // 2}, in its atoms section {full}"),
+        "a few bytes short": (size - 3, f"truncated at byte {size - 3}, in its end marker section {full}"),
+        "without its end marker": (L[5], f"truncated at byte {L[5]}, in its end marker section {full}"),
+    }
+
+
+CUTS = ["empty", "inside the version record", "inside the header", "header only", "inside the force fields",
+        "among the atoms", "a few bytes short", "without its end marker"]
+
+
+@pytest.mark.parametrize("np_", [1, 2])
+@pytest.mark.parametrize("cut", CUTS)
+def test_truncated_restart_is_named(tmp_path, restart_file, cut, np_):
+    keep, phrase = cut_points(restart_file)[cut]
+    rc, out = read_cut(tmp_path, restart_file[:keep], np_)
+    check_error(rc, out, "read_restart: " if cut != "empty" else phrase)
+    assert phrase in lmp.error_lines(out)[0]
+    assert "cut.restart" in lmp.error_lines(out)[0]
+
+
+def legacy_cut_points(data):
+    old = legacy(data)
+    _, L = layout(data)
+    shift = 64  # the layout record is not in the old file
+    return old, {
+        "header only": (L[0] - shift, f"is truncated at byte {L[0] - shift}, in its groups section"),
+        "among the atoms": ((L[4] + L[5]) // 2 - shift, "in its atoms section"),
+        "a few bytes short": (len(old) - 3, f"is truncated at byte {len(old) - 3}, in its atoms section"),
+        "one atom value short": (len(old) - 8, f"is truncated at byte {len(old) - 8}, in its atoms section"),
+        "a byte too many": (len(old) + 1, "has 1 bytes after its last atom chunk"),
+    }
+
+
+@pytest.mark.parametrize("np_", [1, 2])
+@pytest.mark.parametrize("cut", ["header only", "among the atoms", "a few bytes short", "one atom value short",
+                                 "a byte too many"])
+def test_truncated_old_restart_is_named(tmp_path, restart_file, cut, np_):
+    """A restart without the layout record is read as it comes, every read checked: a cut is found
+    where the reads reach it, and the last atom chunk must end the file."""
+    old, cuts = legacy_cut_points(restart_file)
+    keep, phrase = cuts[cut]
+    data = old[:keep] if keep <= len(old) else old + b"\0"
+    rc, out = read_cut(tmp_path, data, np_)
+    check_error(rc, out, phrase)
+
+
+def test_restart_with_data_after_its_end_is_named(tmp_path, restart_file):
+    rc, out = read_cut(tmp_path, restart_file + b"x", 1)
+    check_error(rc, out, f"has {len(restart_file) + 1} bytes, {len(restart_file)} expected")
+
+
+def test_not_a_restart_file(tmp_path):
+    rc, out = read_cut(tmp_path, b"LIGGGHTS data file\n\n4 atoms\n" * 20, 1)
+    check_error(rc, out, "'cut.restart' is not a LIGGGHTS restart file")
+
+
+def test_restart_whose_writer_did_not_finish(tmp_path, restart_file):
+    """write_restart fills the layout in last: zeros there mean the writer stopped halfway."""
+    at, _ = layout(restart_file)
+    data = restart_file[:at + 8] + bytes(56) + restart_file[at + 8 + 56:]
+    rc, out = read_cut(tmp_path, data, 2)
+    check_error(rc, out, "is incomplete: the run writing it did not finish it")
+
+
+@pytest.mark.parametrize("np_", [1, 2])
+def test_missing_restart_and_directory(tmp_path, np_):
+    (tmp_path / "adir").mkdir()
+    rc, out = run(READ_DECK.format(name="nosuch.restart"), tmp_path, np=np_)
+    check_error(rc, out, "read_restart: cannot open restart file 'nosuch.restart': No such file or directory")
+    rc, out = run(READ_DECK.format(name="adir"), tmp_path, np=np_)
+    check_error(rc, out, "read_restart: 'adir' is a directory, not a restart file")
+
+
+def test_restart_in_one_file_per_processor(tmp_path):
+    """`write_restart net.%.restart` (a base file and one file per rank): read on 2 ranks and on 1;
+    a per-rank file cut short or missing is named, on every rank alike."""
+    lmp.write_data(tmp_path / "net.data", ATOMS, BONDS)
+    rc, out = run(WRITE_DECK.replace("net.restart", "net.%.restart"), tmp_path, np=2)
+    assert rc == 0 and not lmp.error_lines(out), out[-2000:]
+    deck = READ_DECK.format(name="net.%.restart")
+    for np_ in (2, 1):
+        rc, out = run(deck, tmp_path, np=np_)
+        assert rc == 0 and "read 4 atoms" in out, out[-2000:]
+    data = (tmp_path / "net.1.restart").read_bytes()
+    (tmp_path / "net.1.restart").write_bytes(data[:-5])
+    rc, out = run(deck, tmp_path, np=2)
+    check_error(rc, out, f"read_restart: restart file 'net.1.restart' is truncated or corrupt ({len(data) - 5} bytes, "
+                         f"{len(data)} expected)")
+    (tmp_path / "net.1.restart").unlink()
+    rc, out = run(deck, tmp_path, np=2)
+    check_error(rc, out, "read_restart: cannot open restart file 'net.1.restart': No such file or directory")
 
 
 # ---- one rank's error -----------------------------------------------------------------------------

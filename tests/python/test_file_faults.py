@@ -7,6 +7,8 @@ ERROR line naming the file and what is wrong, a non-zero exit, every rank stoppi
   on 2 ranks or accepted a file a few bytes short.
 - an error raised on one rank only (Error::one, patch 0008) ends the job without OpenMPI's
   MPI_ABORT banner.
+- VTK and STL mesh files (patch 0010): integers read as integers ('2.7' was 2, '4294967300' was 4),
+  point indices in range, coordinates finite numbers; the file, line and word named.
 
 Every run has a timeout and is killed with its whole process group if it hangs (a hung rank of
 LIGGGHTS ignored SIGTERM).
@@ -278,3 +280,124 @@ def test_error_on_the_other_rank_ends_without_the_banner(tmp_path, np_):
     assert rc > 0 and len(errors) == 1, out[-2000:]
     assert f"ERROR on proc {np_ - 1}: bond_style wirenet: bond 1-2 has zero length" in errors[0]
     no_banner(out)
+
+
+# ---- mesh files ----------------------------------------------------------------------------------
+
+MESH_DECK = """units si
+atom_style granular
+atom_modify map array sort 0 0
+boundary f f f
+newton off
+communicate single vel yes
+processors * 1 1
+region box block -1 1 -1 1 -1 1 units box
+create_box 1 box
+fix m1 all property/global youngsModulus peratomtype 1e7
+fix m2 all property/global poissonsRatio peratomtype 0.3
+fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5
+fix m4 all property/global coefficientFriction peratomtypepair 1 0.5
+{command}
+run 0
+"""
+TRI = "fix wall all mesh/surface file {name} type 1"
+TET = "region tet mesh/tet file {name} scale 1 move 0 0 0 rotate 0 0 0 units box"
+
+
+def tri_vtk(points="POINTS 4 float", cells=("3 0 1 2", "3 0 2 3"), cells_line=None, types=("5", "5"),
+            coords=("0 0 0", "0.5 0 0", "0.5 0.5 0", "0 0.5 0")):
+    """Two triangles. LIGGGHTS' triangle VTK reader counts the first line only when it is not a
+    '#' comment and compares the DATASET line as one word: it takes no standard VTK header, this
+    one it does (its own quirk, not changed)."""
+    cells_line = cells_line or f"CELLS {len(cells)} {4 * len(cells)}"
+    return "\n".join(["vtk DataFile Version 2.0", "two triangles", "ASCII", '"DATASET UNSTRUCTURED_GRID"',
+                      points, *coords, cells_line, *cells, f"CELL_TYPES {len(types)}", *types]) + "\n"
+
+
+def tet_vtk(cell="4 0 1 2 3", ctype="10", points="POINTS 4 float"):
+    """One tetrahedron, a standard legacy VTK file (region mesh/tet)."""
+    return "\n".join(["# vtk DataFile Version 2.0", "one tet", "ASCII", "DATASET UNSTRUCTURED_GRID",
+                      points, "0 0 0", "0.5 0 0", "0 0.5 0", "0 0 0.5", "CELLS 1 5", cell,
+                      "CELL_TYPES 1", ctype]) + "\n"
+
+
+STL_GOOD = """solid t
+facet normal 0 0 1
+outer loop
+vertex 0 0 0
+vertex 0.5 0 0
+vertex 0.5 0.5 0
+endloop
+endfacet
+endsolid t
+"""
+
+# (reader, file name, text, phrase)
+BAD_MESHES = {
+    "fractional point index": (TRI, "m.vtk", tri_vtk(cells=("3 0 1 2", "3 0 2.7 3")),
+                               "mesh file 'm.vtk' line 12: point index '2.7' is not a whole number"),
+    "point index beyond int": (TRI, "m.vtk", tri_vtk(cells=("3 0 1 2", "3 0 4294967300 3")),
+                               "mesh file 'm.vtk' line 12: point index 4294967300 is out of range (0 to 3)"),
+    "point index beyond the points": (TRI, "m.vtk", tri_vtk(cells=("3 0 1 4", "3 0 2 3")),
+                                      "mesh file 'm.vtk' line 11: point index 4 is out of range (0 to 3)"),
+    "negative point index": (TRI, "m.vtk", tri_vtk(cells=("3 0 1 2", "3 -1 2 3")),
+                             "mesh file 'm.vtk' line 12: point index -1 is out of range (0 to 3)"),
+    "fractional point count": (TRI, "m.vtk", tri_vtk(points="POINTS 4.5 float"),
+                               "mesh file 'm.vtk' line 5: point count '4.5' is not a whole number"),
+    "cell count with a suffix": (TRI, "m.vtk", tri_vtk(cells_line="CELLS 2x 8"),
+                                 "mesh file 'm.vtk' line 10: cell count '2x' is not a whole number"),
+    "cell of 3 points listing 2": (TRI, "m.vtk", tri_vtk(cells=("3 0 1 2", "3 0 2")),
+                                   "mesh file 'm.vtk' line 12: cell of 3 points lists 2"),
+    "bad coordinate": (TRI, "m.vtk", tri_vtk(coords=("0 0 0", "0.5 0 0", "0.5 0,5 0", "0 0.5 0")),
+                       "mesh file 'm.vtk' line 8: coordinate '0,5' is not a finite number"),
+    "fractional cell type": (TRI, "m.vtk", tri_vtk(types=("5", "5.0")),
+                             "mesh file 'm.vtk' line 15: cell type '5.0' is not a whole number"),
+    "file ends among the cells": (TRI, "m.vtk", tri_vtk().split("CELL_TYPES")[0].rsplit("\n", 2)[0] + "\n",
+                                  "mesh file 'm.vtk' ends at line 11, inside its CELLS section"),
+    "tet fractional point index": (TET, "t.vtk", tet_vtk(cell="4 0 1 2.7 3"),
+                                   "mesh file 't.vtk' line 11: point index '2.7' is not a whole number"),
+    "tet point index beyond int": (TET, "t.vtk", tet_vtk(cell="4 0 1 4294967298 3"),
+                                   "mesh file 't.vtk' line 11: point index 4294967298 is out of range (0 to 3)"),
+    "tet fractional point count": (TET, "t.vtk", tet_vtk(points="POINTS 4.0 float"),
+                                   "mesh file 't.vtk' line 5: point count '4.0' is not a whole number"),
+    "tet cell type with a suffix": (TET, "t.vtk", tet_vtk(ctype="10abc"),
+                                    "mesh file 't.vtk' line 13: cell type '10abc' is not a whole number"),
+    "stl vertex not a number": (TRI, "m.stl", STL_GOOD.replace("vertex 0.5 0 0", "vertex 0.5 abc 0"),
+                                "mesh file 'm.stl' line 5: coordinate 'abc' is not a finite number"),
+    "stl vertex of two numbers": (TRI, "m.stl", STL_GOOD.replace("vertex 0.5 0 0", "vertex 0.5 0"),
+                                  "mesh file 'm.stl' line 5: a vertex is 'vertex X Y Z'"),
+}
+
+
+@pytest.mark.parametrize("np_", [1, 2])
+@pytest.mark.parametrize("case", sorted(BAD_MESHES))
+def test_bad_mesh_file_is_named(tmp_path, case, np_):
+    reader, name, text, phrase = BAD_MESHES[case]
+    (tmp_path / name).write_text(text)
+    rc, out = run(MESH_DECK.format(command=reader.format(name=name)), tmp_path, np=np_)
+    check_error(rc, out, phrase)
+
+
+@pytest.mark.parametrize("reader,name,text", [(TRI, "m.vtk", tri_vtk()), (TET, "t.vtk", tet_vtk()),
+                                              (TRI, "m.stl", STL_GOOD)], ids=["tri vtk", "tet vtk", "stl"])
+def test_good_meshes_are_read(tmp_path, reader, name, text):
+    (tmp_path / name).write_text(text)
+    rc, out = run(MESH_DECK.format(command=reader.format(name=name)), tmp_path)
+    assert rc == 0 and not lmp.error_lines(out), out[-2000:]
+
+
+def binary_stl(nfacets_written, nfacets_declared):
+    facets = [struct.pack("<12fH", 0, 0, 1, 0, 0, 0, 0.5, 0, 0, 0.5, 0.5, 0, 0),
+              struct.pack("<12fH", 0, 0, 1, 0, 0, 0, 0.5, 0.5, 0, 0, 0.5, 0, 0)]
+    return b"binary STL written by the WireNet tests".ljust(80) + struct.pack("<I", nfacets_declared) + \
+        b"".join(facets[:nfacets_written])
+
+
+@pytest.mark.parametrize("np_", [1, 2])
+def test_binary_stl_facet_count_is_checked(tmp_path, np_):
+    (tmp_path / "b.stl").write_bytes(binary_stl(2, 3))
+    rc, out = run(MESH_DECK.format(command=TRI.format(name="b.stl")), tmp_path, np=np_)
+    check_error(rc, out, "mesh file 'b.stl': a binary STL of 3 facets has 234 bytes, this one 184")
+    (tmp_path / "good.stl").write_bytes(binary_stl(2, 2))
+    rc, out = run(MESH_DECK.format(command=TRI.format(name="good.stl")), tmp_path, np=np_)
+    assert rc == 0 and not lmp.error_lines(out), out[-2000:]

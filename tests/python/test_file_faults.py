@@ -9,6 +9,9 @@ ERROR line naming the file and what is wrong, a non-zero exit, every rank stoppi
   MPI_ABORT banner.
 - VTK and STL mesh files (patch 0010): integers read as integers ('2.7' was 2, '4294967300' was 4),
   point indices in range, coordinates finite numbers; the file, line and word named.
+- read_data (patch 0011): a data file that ends inside a section names the file and the section.
+- a file given to read_data or read_restart that is missing or a directory (patches
+  0009, 0011).
 
 Every run has a timeout and is killed with its whole process group if it hangs (a hung rank of
 LIGGGHTS ignored SIGTERM).
@@ -401,3 +404,61 @@ def test_binary_stl_facet_count_is_checked(tmp_path, np_):
     (tmp_path / "good.stl").write_bytes(binary_stl(2, 2))
     rc, out = run(MESH_DECK.format(command=TRI.format(name="good.stl")), tmp_path, np=np_)
     assert rc == 0 and not lmp.error_lines(out), out[-2000:]
+
+
+# ---- read_data: the section where the file ends ---------------------------------------------------
+
+def data_lines():
+    atoms = [" ".join(repr(v) for v in a) for a in ATOMS]
+    bonds = [" ".join(str(v) for v in b) for b in BONDS]
+    return ["data file", "", "4 atoms", "3 bonds", "1 atom types", "1 bond types", "",
+            "-1 1 xlo xhi", "-1 1 ylo yhi", "-1 1 zlo zhi", "", "Atoms", "", *atoms, "", "Bonds", "", *bonds]
+
+
+ATOMS_AT = 13   # index of the first atom line
+BONDS_AT = 20   # index of the first bond line
+
+CUT_DATA = {
+    "among the atoms": (ATOMS_AT + 2, "unexpected end of data file 'net.data' in its Atoms section (4 lines expected, 2 found)"),
+    "among the bonds": (BONDS_AT + 1, "unexpected end of data file 'net.data' in its Bonds section (3 lines expected, 1 found)"),
+    "after the Bonds title": (BONDS_AT - 1, "unexpected end of data file 'net.data' after the title of its Bonds section"),
+    "before the Bonds section": (BONDS_AT - 2, "data file 'net.data' has no Bonds section, but its header declares 3 bonds"),
+    "before the Atoms section": (ATOMS_AT - 2, "data file 'net.data' has no Atoms section, but its header declares 4 atoms"),
+    "empty": (0, "data file 'net.data' is empty"),
+}
+
+
+@pytest.mark.parametrize("np_", [1, 2])
+@pytest.mark.parametrize("case", sorted(CUT_DATA))
+def test_data_file_ending_early_names_the_section(tmp_path, case, np_):
+    keep, phrase = CUT_DATA[case]
+    lines = data_lines()[:keep]
+    (tmp_path / "net.data").write_text("\n".join(lines) + ("\n" if lines else ""))
+    rc, out = run(lmp.PREAMBLE + "read_data net.data\n", tmp_path, np=np_)
+    check_error(rc, out, "read_data: " + phrase)
+    no_banner(out)
+
+
+@pytest.mark.parametrize("np_", [1, 2])
+def test_data_file_ending_early_without_bonds_names_the_section(tmp_path, np_):
+    """atom_style granular reads the Atoms section on every rank (no proc-0 scan first)."""
+    lines = ["data file", "", "4 atoms", "1 atom types", "", "-1 1 xlo xhi", "-1 1 ylo yhi", "-1 1 zlo zhi", "",
+             "Atoms", "", *[f"{a[0]} {a[1]} {a[5]!r} {a[6]!r} {a[2]!r} {a[3]!r} {a[4]!r}" for a in ATOMS[:3]]]
+    (tmp_path / "net.data").write_text("\n".join(lines) + "\n")
+    rc, out = run(lmp.GRANULAR_PREAMBLE + "read_data net.data\n", tmp_path, np=np_)
+    check_error(rc, out, "read_data: unexpected end of data file 'net.data' in its Atoms section (4 lines expected)")
+
+
+# ---- missing files and directories ----------------------------------------------------------------
+
+@pytest.mark.parametrize("np_", [1, 2])
+@pytest.mark.parametrize("command,what", [("read_data", "data file")])
+def test_missing_file_or_directory_is_named(tmp_path, command, what, np_):
+    (tmp_path / "adir").mkdir()
+    pre = lmp.PREAMBLE if command == "read_data" else ""
+    rc, out = run(pre + f"{command} nosuch.file\n", tmp_path / "a", np=np_)
+    check_error(rc, out, f"{command}: cannot open {what} 'nosuch.file': No such file or directory")
+    (tmp_path / "b").mkdir()
+    (tmp_path / "b" / "adir").mkdir()
+    rc, out = run(pre + f"{command} adir\n", tmp_path / "b", np=np_)
+    check_error(rc, out, f"{command}: 'adir' is a directory, not a{'n' if what[0] == 'i' else ''} {what}")

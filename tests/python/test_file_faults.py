@@ -10,6 +10,7 @@ ERROR line naming the file and what is wrong, a non-zero exit, every rank stoppi
 - VTK and STL mesh files (patch 0010): integers read as integers ('2.7' was 2, '4294967300' was 4),
   point indices in range, coordinates finite numbers; the file, line and word named.
 - read_data (patch 0011): a data file that ends inside a section names the file and the section.
+- `shell mkdir` and the folders dump and write_restart create honour the umask (patch 0012).
 - a file given to read_data or read_restart that is missing or a directory (patches
   0009, 0011).
 
@@ -462,3 +463,23 @@ def test_missing_file_or_directory_is_named(tmp_path, command, what, np_):
     (tmp_path / "b" / "adir").mkdir()
     rc, out = run(pre + f"{command} adir\n", tmp_path / "b", np=np_)
     check_error(rc, out, f"{command}: 'adir' is a directory, not a{'n' if what[0] == 'i' else ''} {what}")
+
+
+# ---- folders honour the umask ----------------------------------------------------------------------
+
+@pytest.mark.parametrize("umask,mode", [(0o022, 0o755), (0o077, 0o700), (0o002, 0o775)])
+def test_created_folders_honour_the_umask(tmp_path, umask, mode):
+    """`shell mkdir` (the decks' run/frames) and the folders that dump and write_restart create for
+    their files: 0777 less the umask, as mkdir(1) (LIGGGHTS gave 0750 whatever the umask)."""
+    lmp.write_data(tmp_path / "net.data", ATOMS, BONDS)
+    deck = lmp.PREAMBLE + """read_data net.data
+shell mkdir frames
+dump d all custom 1 dumps/nodes.dump id x y z
+run 0
+write_restart restarts/net.restart
+"""
+    rc, out = run(deck, tmp_path, umask=umask)
+    assert rc == 0 and not lmp.error_lines(out), out[-2000:]
+    for folder in ("frames", "dumps", "restarts"):
+        got = stat.S_IMODE((tmp_path / folder).stat().st_mode)
+        assert got == mode, f"{folder}: mode {got:o} under umask {umask:03o}, expected {mode:o}"

@@ -11,8 +11,8 @@ ERROR line naming the file and what is wrong, a non-zero exit, every rank stoppi
   point indices in range, coordinates finite numbers; the file, line and word named.
 - read_data (patch 0011): a data file that ends inside a section names the file and the section.
 - `shell mkdir` and the folders dump and write_restart create honour the umask (patch 0012).
-- a file given to read_data or read_restart that is missing or a directory (patches
-  0009, 0011).
+- a file given to include, read_data or read_restart that is missing or a directory (patches
+  0009, 0011, 0013). LIGGGHTS 3.8.0 has no `molecule` command: it is an unknown command.
 
 Every run has a timeout and is killed with its whole process group if it hangs (a hung rank of
 LIGGGHTS ignored SIGTERM).
@@ -453,7 +453,7 @@ def test_data_file_ending_early_without_bonds_names_the_section(tmp_path, np_):
 # ---- missing files and directories ----------------------------------------------------------------
 
 @pytest.mark.parametrize("np_", [1, 2])
-@pytest.mark.parametrize("command,what", [("read_data", "data file")])
+@pytest.mark.parametrize("command,what", [("include", "input script"), ("read_data", "data file")])
 def test_missing_file_or_directory_is_named(tmp_path, command, what, np_):
     (tmp_path / "adir").mkdir()
     pre = lmp.PREAMBLE if command == "read_data" else ""
@@ -463,6 +463,11 @@ def test_missing_file_or_directory_is_named(tmp_path, command, what, np_):
     (tmp_path / "b" / "adir").mkdir()
     rc, out = run(pre + f"{command} adir\n", tmp_path / "b", np=np_)
     check_error(rc, out, f"{command}: 'adir' is a directory, not a{'n' if what[0] == 'i' else ''} {what}")
+
+
+def test_molecule_is_not_a_command_of_liggghts_3_8(tmp_path):
+    rc, out = run("molecule m nosuch.mol\n", tmp_path)
+    check_error(rc, out, "Unknown command: molecule")
 
 
 # ---- folders honour the umask ----------------------------------------------------------------------

@@ -211,6 +211,32 @@ def test_isolated_net_conserves_momentum_and_closes_the_energy_budget(tmp_path):
     assert np.abs(budget - e[0]).max() / e[0] < 0.01
 
 
+def test_undamped_free_net_keeps_its_energy_and_momentum(tmp_path):
+    """Issue #45: without damping and without contacts a vibrating net is a conservative system:
+    kinetic + rotational + bond energy + plastic work stays at its start value up to velocity
+    Verlet's O(dt^2) oscillation: halving the step quarters the largest deviation (a law doing
+    work of its own, or a lost term, would not shrink so), and momentum holds to round-off."""
+    deviation = {}
+    for dt, steps in ((2e-6, 40000), (1e-6, 80000)):
+        wd = tmp_path / f"dt{dt:g}"
+        wd.mkdir()
+        write_net(wd / "net.data")
+        deck = net_deck(None, steps).replace("timestep 2e-6", f"timestep {dt!r}").replace(
+            "thermo 1000", f"thermo {steps // 200}")
+        rows = lmp.thermo_rows(lmp.run_deck(deck, wd))
+        assert all(r["diss"] == 0.0 for r in rows)
+        e = np.array([r["ke"] + r["er"] + r["pe"] + r["plast"] for r in rows])
+        deviation[dt] = np.abs(e - e[0]).max() / e[0]
+        frames = lmp.dump_atom_frames(wd / "net.dump")
+        (c0, a0), (c1, a1) = frames[0], frames[max(frames)]
+        p0, ps, l0, ls = momenta(c0, a0)
+        p1, _, l1, _ = momenta(c1, a1)
+        assert np.abs(p1 - p0).max() <= 1e-10 * ps
+        assert np.abs(l1 - l0).max() <= 1e-10 * ls
+    assert deviation[2e-6] < 2e-3
+    assert 3.0 < deviation[2e-6] / deviation[1e-6] < 5.0, deviation
+
+
 def test_zero_damping_is_no_damping(tmp_path):
     runs = {}
     for name, zeta in (("none", None), ("zero", 0)):

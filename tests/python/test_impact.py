@@ -365,3 +365,59 @@ run 6000
     assert last["cwp"] == pytest.approx(last["ek"] - first["ek"], rel=1e-3, abs=1e-6 * first["ek"])
     for k in (3, 4, 5):                                 # action = reaction
         assert abs(last[f"cwp[{k}]"]) < 1e-9
+
+
+def test_contactwork_pair_is_the_friction_work_of_two_rubbing_nodes(tmp_path):
+    """Issue #45: the node-node contact between the hexagonal and the square layer (pair_style gran
+    with friction, no damping) is measured by `fix wirenet/contactwork pair`: two spinning nodes of
+    the two layers (molecules 1 and 2) meet obliquely and part; the pair work equals the change of
+    their kinetic energy (translation + rotation: elastic normal force, so what is lost is the
+    friction's work), it is negative, and the pair impulses cancel (momentum is conserved)."""
+    r, rho = 0.005, 7850.0
+    lmp.write_data(tmp_path / "two.data",
+                   [(1, 1, -0.0102, 0.0, 0.0, 2 * r, rho, 1), (2, 1, 0.0, 0.0, 0.0049, 2 * r, rho, 2)],
+                   [], box=((-0.2, 0.2), (-0.2, 0.2), (-0.2, 0.2)))
+    deck = lmp.PREAMBLE + f"""communicate single vel yes
+read_data two.data
+fix m1 all property/global kn peratomtypepair 1 1e6
+fix m2 all property/global kt peratomtypepair 1 2e5
+fix m3 all property/global gamman peratomtypepair 1 0
+fix m4 all property/global gammat peratomtypepair 1 0
+fix m5 all property/global coefficientFriction peratomtypepair 1 0.4
+pair_style gran model hooke/stiffness tangential history
+pair_coeff * *
+neighbor 0.002 bin
+neigh_modify delay 0
+bond_style wirenet
+bond_coeff 1 wire diameter 0.0027 curve 0.01 2.5e8 0.05 5e8 family SW
+fix cwp all wirenet/contactwork pair
+fix integ all nve/sphere
+velocity all set 0 0 0 units box
+set atom 1 vx 1.0 vy 0.3 vz 0.0 omegax 0 omegay 40.0 omegaz 60.0
+set atom 2 vx -0.5 vy 0.0 vz -0.2 omegax -30.0 omegay 0 omegaz 0
+compute ke all ke
+compute kr all erotate/sphere
+variable ek equal c_ke+c_kr
+variable m1 equal mass[1]
+variable m2 equal mass[2]
+variable px equal v_m1*vx[1]+v_m2*vx[2]
+variable py equal v_m1*vy[1]+v_m2*vy[2]
+variable pz equal v_m1*vz[1]+v_m2*vz[2]
+variable p1x equal v_m1*vx[1]
+thermo_style custom step v_ek v_px v_py v_pz f_cwp f_cwp[1] f_cwp[2] f_cwp[3] f_cwp[4] f_cwp[5] v_p1x
+thermo_modify format float %.17g norm no
+thermo 100
+timestep 1e-6
+run 20000
+"""
+    rows = lmp.thermo_rows(lmp.run_deck(deck, tmp_path))
+    first, last = rows[0], rows[-1]
+    dke = last["ek"] - first["ek"]
+    assert last["cwp"] < -1e-3 * first["ek"]                    # friction took energy out
+    assert last["cwp"] == pytest.approx(dke, rel=1e-3)
+    assert abs(last["p1x"] - first["p1x"]) > 0.1 * abs(first["p1x"])   # they did collide
+    scale = abs(last["p1x"] - first["p1x"])
+    for k in ("px", "py", "pz"):
+        assert last[k] == pytest.approx(first[k], abs=1e-12 * scale)
+    for k in ("cwp[3]", "cwp[4]", "cwp[5]"):                   # action and reaction
+        assert abs(last[k]) <= 1e-9 * scale

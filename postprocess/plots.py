@@ -126,9 +126,9 @@ def figure_calibration(curves, prefix, outputs=None):
         right.set_ylabel(f"force relative to ratio {curves[0][0]} [%]")
         right.set_title(f"(b) difference to ratio {curves[0][0]} (force >= 0.2 % of its peak)")
         right.legend(title="bending stiffness ratio")
-        fig.suptitle("Figure 2: square-mesh cone punch, calibration")
+        fig.suptitle("Figure 2: square-mesh cone punch, bending-fraction sensitivity")
     else:
-        axis.set_title("Figure 2: square-mesh cone punch, calibration")
+        axis.set_title("Figure 2: square-mesh cone punch, bending-fraction sensitivity")
     return save(fig, prefix, outputs)
 
 

@@ -332,6 +332,39 @@ def _bending_lines(summaries):
             ""] + rows
 
 
+def bending_sensitivity(summaries):
+    """What the rope beams' bending fraction changes in the cone punch of the study's
+    calibration cases: {fractions: (low, high), peaks: (low, high), spread: (high - low) / low,
+    mode}; None with fewer than two such cases. No published strand-rope net punch curve is
+    digitised in tests/reference/, so the paper's "calibration" fits nothing here: the cases
+    show how much the fraction moves the punch (issue #45)."""
+    cases = [(s["bending"], s["peak_platter_force"], s["mode"]) for s in summaries.values()
+             if s["kind"] == "calibration" and s["status"] == "ok" and
+             s.get("bending") is not None and s.get("peak_platter_force")]
+    if len(cases) < 2:
+        return None
+    peaks = [p for _, p, _ in cases]
+    return {"fractions": (min(b for b, _, _ in cases), max(b for b, _, _ in cases)),
+            "peaks": (min(peaks), max(peaks)), "spread": (max(peaks) - min(peaks)) / min(peaks),
+            "mode": "quick" if any(m == "quick" for _, _, m in cases) else "full"}
+
+
+def _bending_sensitivity_lines(summaries):
+    found = bending_sensitivity(summaries)
+    if found is None:
+        return []
+    (f0, f1), (p0, p1) = found["fractions"], found["peaks"]
+    return ["", f"Bending-fraction sensitivity (Figure 2, the paper's \"calibration\"): fractions "
+                f"{fmt(f0)} to {fmt(f1)} give cone-punch peaks of {fmt(p0)} to {fmt(p1)} N, a "
+                f"spread of {_percent(found['spread'])}" +
+                (" (quick cases)" if found["mode"] == "quick" else "") +
+                ". No measured strand-rope net punch curve is at hand to fit, so the fraction is "
+                "the paper's 0.05, not a calibration: it sets the ropes' bending stiffness (how "
+                "the mesh folds over the cone's tip in the first centimetres) and barely moves "
+                "the punch beyond them (doc/punch.md, \"What the bending fraction changes\"); "
+                "`postprocess calibrate` fits it to a measured curve when one is given."]
+
+
 def elapsed(records):
     """Seconds from the first start to the last end of cases that record both (case.json
     started, finished), or None when any finished case lacks them."""
@@ -405,6 +438,7 @@ def markdown(directory, summaries, verdicts, missing, figures, dissipation=()):
     if endings:
         lines += ["", "How each punch ended (rope strength: doc/bond_wirenet.md):", ""] + endings
     lines += _bending_lines(summaries)
+    lines += _bending_sensitivity_lines(summaries)
     lines += ["", "## Tension in the central zone (zone_forces.csv)", ""]
     zone_rows = list(_zone_rows(summaries))
     lines += _table(["case", "family", "peak total tension [N]", "at",

@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
@@ -464,3 +465,19 @@ def test_fence_comparison_pairs_fences_of_one_dissipation_model():
     comparison = report_module.fence_comparison(summaries)
     assert (comparison["compound"], comparison["square"]) == ("fence_compound", "fence_square")
     assert comparison["post_base_ratio"] == 0.5
+
+
+def test_bending_sensitivity_states_the_spread_not_a_calibration():
+    """Issue #45: the cone punches at several fractions are a sensitivity study (no measured curve
+    to fit): the report gives the peaks' spread from the calibration cases that ended ok."""
+    def cone(bending, peak, status="ok"):
+        return {"kind": "calibration", "status": status, "mode": "full", "bending": bending,
+                "peak_platter_force": peak}
+    summaries = {"c0": cone(0.0, 627e3), "c1": cone(1.0, 631e3), "c05": cone(0.05, 628e3),
+                 "broken": cone(0.25, 10.0, status="failed")}
+    found = report_module.bending_sensitivity(summaries)
+    assert found["fractions"] == (0.0, 1.0) and found["peaks"] == (627e3, 631e3)
+    assert found["spread"] == pytest.approx(4e3 / 627e3)
+    assert report_module.bending_sensitivity({"c0": cone(0.0, 627e3)}) is None
+    text = "\n".join(report_module._bending_sensitivity_lines(summaries))
+    assert "not a calibration" in text and "0.638 %" in text

@@ -234,6 +234,38 @@ def test_interrupt_stops_liggghts_and_the_case_is_redone(tmp_path, sig, code):
         _stop(proc)
 
 
+def test_a_killed_runner_takes_its_liggghts_with_it_and_the_case_resumes(tmp_path):
+    """Issue #43: SIGKILL cannot be trapped, so the runner cannot stop LIGGGHTS itself: its ranks
+    must stop when it dies (the parent-death signal of runner/engine.py), and the next run into
+    the same folder (the lock died with the runner) redoes the case."""
+    out = tmp_path / "killed"
+    env = dict(os.environ, WIRENET_BUILD=str(lmp.BUILD), WIRENET_SETUP="skip")
+    proc = subprocess.Popen([str(DRIVER), "run", "impact_compound", "--quick", "--out", str(out)],
+                            cwd=tmp_path, env=env, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    try:
+        case = out / "impact_compound"
+        deadline = time.time() + 300
+        while time.time() < deadline and not _liggghts_in(case):
+            assert proc.poll() is None, proc.communicate()
+            time.sleep(0.2)
+        assert _liggghts_in(case), "LIGGGHTS never started"
+        runners = [pid for pid, cmd in _processes_naming(str(out)) if "-m runner" in cmd]
+        assert len(runners) == 1, _processes_naming(str(out))
+        os.kill(runners[0], signal.SIGKILL)
+        proc.communicate(timeout=60)
+        deadline = time.time() + 15
+        while _liggghts_in(case) and time.time() < deadline:
+            time.sleep(0.2)
+        assert not _liggghts_in(case), "LIGGGHTS processes outlived the killed runner"
+        p = driver("run", "impact_compound", "--quick", "--out", str(out))
+        assert p.returncode == 0, p.stderr[-2000:]
+        assert "complete, skipped" not in p.stdout
+        assert json.loads((case / "case.json").read_text())["status"] == "ok"
+    finally:
+        _stop(proc)
+
+
 def _stop(proc):
     """A driver a failed test left running: SIGTERM, which its trap passes on to its child."""
     if proc.poll() is None:

@@ -205,12 +205,19 @@ def load_case(path):
     return case
 
 
+def natural_key(name):
+    """Sort key that reads the numbers in a name as numbers: v6 before v10, 0.05 before 0.25."""
+    return [(0, float(part), "") if re.fullmatch(r"\d+(\.\d+)?", part) else (1, 0.0, part)
+            for part in re.split(r"(\d+(?:\.\d+)?)", name) if part]
+
+
 def discover(directory):
-    """{name: Case} for the sub-folders of ``directory`` that hold a case file or case.json."""
+    """{name: Case} for the sub-folders of ``directory`` that hold a case file or case.json, in
+    natural order (the numbers in the names as numbers)."""
     if not os.path.isdir(directory):
         raise PostprocessError(f"{directory}: not a directory")
     cases = {}
-    for name in sorted(os.listdir(directory)):
+    for name in sorted(os.listdir(directory), key=natural_key):
         path = os.path.join(directory, name)
         if name.startswith(".") or name == "figures" or not os.path.isdir(path):
             continue

@@ -481,3 +481,13 @@ def test_bending_sensitivity_states_the_spread_not_a_calibration():
     assert report_module.bending_sensitivity({"c0": cone(0.0, 627e3)}) is None
     text = "\n".join(report_module._bending_sensitivity_lines(summaries))
     assert "not a calibration" in text and "0.638 %" in text
+
+
+def test_cases_are_listed_in_natural_order():
+    """Issue #42: a speed sweep's cases in the report read v6, v10, v20, not v10, v20, v6."""
+    from postprocess.casefolders import natural_key
+    names = ["speed_v10", "speed_v6", "calibration_0.25", "calibration_0.05", "speed_v20",
+             "calibration_1", "impact_hex_paper", "impact_hex"]
+    assert sorted(names, key=natural_key) == [
+        "calibration_0.05", "calibration_0.25", "calibration_1", "impact_hex", "impact_hex_paper",
+        "speed_v6", "speed_v10", "speed_v20"]

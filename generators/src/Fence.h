@@ -52,28 +52,35 @@ constexpr double kSteelE = 2.1e11, kSteelNu = 0.3;
 
 // The defaults are wirenet-gen fence's: the fence inputs/fence.in brings to rest.
 struct FenceParams {
-    int modules = 3;                 // functional modules (panels between posts)
-    double spacing = 10.0;           // post spacing, m
-    double height = 5.0;             // post height = nominal height, m
+    // Each default's source: EAD/ETAG = EAD 340059-00-0106 (ETAG 027); unverified: a standard or
+    // catalogue whose table was not read; none: a design choice of this test fence; numerical:
+    // discretisation only (doc/fence.md, "Sources").
+    int modules = 3;                 // functional modules (panels between posts); EAD: three modules
+    double spacing = 10.0;           // post spacing, m; EAD (the kit's typical spacing)
+    double height = 5.0;             // post height = nominal height, m; none: a 5 m kit (issue #18)
     NetKind net = NetKind::Compound;
     CompoundParams panel;            // hex / square parameters and ties; module() sizes them
-    double shackleGap = 0.05;        // net's top and bottom edges to their support ropes, m
+    double shackleGap = 0.05;        // net's top and bottom edges to their support ropes, m; numerical
     // Net's side edges to their posts, m; unset: defaultPostGap().
     std::optional<double> postGap;
     bool sideShackles = true;        // module sides shackled to the posts
     bool clampHeads = true;          // top rope clamped at the post heads (false: it slides, the posts sway)
-    double ropeSegment = 0.5;        // target rope bond length, m
-    double supportDiameter = 0.022, upslopeDiameter = 0.022;  // m
-    double fill = 0.65;              // metallic fill factor of the wire ropes
-    double density = kSteelDensity;  // steel, kg/m3
-    double anchorDistance = 5.0;     // top rope's lateral anchors beyond the end posts, m
-    double bottomAnchorDistance = 2.5;  // bottom rope's lateral anchors beyond the end posts, m
+    double ropeSegment = 0.5;        // target rope bond length, m; numerical
+    // m; none: a design choice (22 mm ropes of 500 kJ kits: unverified, manufacturers' kit sheets)
+    double supportDiameter = 0.022, upslopeDiameter = 0.022;
+    // rope mass per metre over steel's per metre of the gross section (1.94 kg/m at 22 mm);
+    // unverified: the nominal length mass of 6x36WS-IWRC ropes, about 0.004 d^2 kg/m with d in mm
+    // (EN 12385-4, table not read)
+    double fill = 0.65;
+    double density = kSteelDensity;  // steel, kg/m3; EN 1991-1-1, Table A.4 (7850 kg/m3)
+    double anchorDistance = 5.0;     // top rope's lateral anchors beyond the end posts, m; none
+    double bottomAnchorDistance = 2.5;  // bottom rope's lateral anchors beyond the end posts, m; none
     int brakes = 1;                  // brake bonds per support-rope end (next to the lateral anchor)
-    double upslopeDistance = 10.0;   // upslope anchors behind the posts (+y), m
-    double upslopeHeight = 0.0;      // height of the upslope anchors above the post bases, m
+    double upslopeDistance = 10.0;   // upslope anchors behind the posts (+y), m; none
+    double upslopeHeight = 0.0;      // height of the upslope anchors above the post bases, m; none: flat ground
     int upslopeBrakes = 1;           // brake bonds per upslope rope (next to its anchor)
-    int postElements = 5;
-    double postTilt = 10.0;          // degrees: posts and net lean downslope (-y) about the base line
+    int postElements = 5;            // beam elements per post; numerical
+    double postTilt = 10.0;          // degrees: posts and net lean downslope (-y) about the base line; none
     // A point of the vertical fence (posts, net, support ropes) leaned by postTilt about the x axis
     // at the ground: (y, z) -> (y cos t - z sin t, y sin t + z cos t); the ground line stays.
     Eigen::Vector3d lean(const Eigen::Vector3d& x) const;

@@ -48,7 +48,7 @@ struct HexParams {
     void validate(const ValueText& text = formatted, const SideNames& sides = {}) const;
 };
 
-constexpr double kSteelDensity = 7850.0;  // kg/m3
+constexpr double kSteelDensity = 7850.0;  // kg/m3; EN 1991-1-1, Table A.4 (steel)
 
 class HexPanel {
 public:

@@ -112,8 +112,9 @@ KEYS = (
            quick=0.15),
     _fence("impact_end", "number", 0.1, "s", "the impact ends this long after the block's largest "
            "travel along the normal, once the block no longer moves into the fence (the peak "
-           "forces are past; the rest brings block and fence to rest: fence.rest_time); 0: the "
-           "whole fence.duration", "doc/fence.md (\"The impact's end\")", low=0.0, high=20.0,
+           "forces are past; the rest brings block and fence to rest: fence.rest_time), or this "
+           "long after the block last touched the fence (it went through, over or under it, or "
+           "bounced off); 0: the whole fence.duration", "doc/fence.md (\"The impact's end\")", low=0.0, high=20.0,
            var="impact_end"),
     _fence("settle_time", "number", 1.0, "s", "settling under gravity (damped) before the block "
            "is released", "doc/fence.md", low=0.0, low_open=True, high=20.0, quick=0.3),

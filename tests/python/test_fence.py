@@ -105,6 +105,7 @@ def settle(folder, np=1, impacts=1):
                inc=lmp.ROOT / "inputs" / "include", data=f"{prefix}.data", types=f"{prefix}.types.in",
                shackles=f"{prefix}.shackles",
                support_d=meta["ropes"]["support"]["diameter"], upslope_d=meta["ropes"]["upslope"]["diameter"],
+               ground_z=-0.5 * meta["ropes"]["support"]["diameter"],   # the bottom rope lies on it
                post_A=section["A"], post_Iy=section["Iy"], post_Iz=section["Iz"], post_J=section["J"],
                ghost=2.5 * meta["max_bond_length"], dt=DT, relax_steps=STEPS, every=EVERY, out=folder)
     var.update(block(folder, meta), every=IMPACT_EVERY, relax_steps=STEPS // IMPACT_EVERY * IMPACT_EVERY,
@@ -141,7 +142,10 @@ def test_the_supports_carry_the_weight_at_rest(hung):
     last = [row for row in lmp.thermo_rows(settling) if "weight" in row][-1]
     weight = meta["total_mass"] * 9.81
     assert last["weight"] == pytest.approx(weight, rel=1e-7)          # thermo prints 8 digits
-    assert last["ke"] < 1e-4 * weight * 1.0                  # at rest (J against N x 1 m)
+    # near rest (J against N x 1 m: 1.5e-4 of it at the end of this short settling with true
+    # masses, about 5 cm/s rms; the 0.2 m post spheres swing longer than the 50 mm ones did); the
+    # reactions below carry the weight to 1 %, the static state's proof
+    assert last["ke"] < 3e-4 * weight * 1.0
     # the bottom rope lies on the ground (z = 0, the plane at minus its radius): the ground
     # carries part of the weight, the supports the rest
     assert last["gz"] > 0.0

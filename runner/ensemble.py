@@ -73,7 +73,8 @@ class Ensemble:
             "name": self.name, "case_file": self.case.path, "kind": self.case.kind,
             "mode": self.mode, "quick": bool(self.case.quick), "seed": v["ensemble.seed"],
             "members_per_value": v["ensemble.members"], "variations": variations(self.case),
-            "sweep": {"key": v["ensemble.sweep"], "values": v["ensemble.values"]}
+            "sweep": {"key": v["ensemble.sweep"], "values": v["ensemble.values"],
+                      "unit": schema.BY_PATH[v["ensemble.sweep"]].unit}
             if self.mode == "sweep" else None,
             "sensitivity": {"keys": sorted({m.key for m in self.members if m.key}),
                             "factors": v["ensemble.factors"], "skipped": self.skipped}

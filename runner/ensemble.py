@@ -326,6 +326,11 @@ def varied_keys(case):
 # ---------------------------------------------------------------------------------------------
 # checks and members
 
+def _a(word):
+    """The word with its indefinite article ('an impact', 'a fence')."""
+    return ("an " if word[:1] in "aeiou" else "a ") + word
+
+
 class _Checks:
     """The rules of the [ensemble] keys beyond each key's own (one CaseFileError each)."""
 
@@ -364,10 +369,10 @@ class _Checks:
         if key is None or key.section == "ensemble" or path in ("kind", "title"):
             names = [k.path for k in schema.KEYS if schema.applies(k, self.case.kind)
                      and k.section != "ensemble"]
-            self.fail(label, f"{path!r}: not a key of a {self.case.kind} case" +
+            self.fail(label, f"{path!r}: not a key of {_a(self.case.kind)} case" +
                       casefile._suggest(path, names))
         if not schema.applies(key, self.case.kind):
-            self.fail(label, f"{path}: not a key of a {self.case.kind} case")
+            self.fail(label, f"{path}: not a key of {_a(self.case.kind)} case")
         return key
 
     def sweep(self):

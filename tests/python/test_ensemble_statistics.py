@@ -120,3 +120,35 @@ def test_synthetic_ensemble():
     b = ensembles.breakthrough(members)
     assert (b["events"], b["n"]) == (100, 400)     # the silent member does not say
     assert b["low"] < 0.25 < b["high"]
+
+
+def _ensemble(net, values, kind="fence", mode="random"):
+    members = {f"member_{k:03d}": {"status": "ok", "errors": [], "breakthrough": False,
+                                   "outputs": {"post_base_peak": v, "anchor_peak": 2 * v}}
+               for k, v in enumerate(values)}
+    outputs = [dict(name=n, label=n, unit="kN", scale=1e3)
+               for n in ("post_base_peak", "anchor_peak")]
+    return dict(kind=kind, mode=mode, quick=False, dissipation="physical", net=net,
+                members=members, outputs=outputs)
+
+
+def test_compound_against_square_comparison():
+    """The paper's post-load comparison between two ensembles: compound - square with Welch's
+    interval, a verdict, and no pairing of ensembles that differ in kind or mode."""
+    compound = [100e3, 110e3, 105e3, 95e3]
+    square = [150e3, 160e3, 170e3, 140e3]
+    summaries = {"c": _ensemble("compound", compound), "s": _ensemble("square", square),
+                 "p": _ensemble("square", square, kind="impact"),
+                 "w": _ensemble("square", square, mode="sweep")}
+    rows = ensembles.comparisons(summaries)
+    assert [(r["compound"], r["square"], r["output"]) for r in rows] == [
+        ("c", "s", "post_base_peak"), ("c", "s", "anchor_peak")]
+    post = rows[0]
+    assert post == {**post, **statistics.welch(compound, square)}
+    assert post["difference"] == pytest.approx(-52.5e3) and post["high"] < 0
+    assert post["ratio"] == pytest.approx(102.5 / 155)
+    assert rows[1]["difference"] == pytest.approx(-105e3)
+    from postprocess import ensemble_report
+    text = "\n".join(ensemble_report.comparison_lines(summaries, rows))
+    assert "| c | s | post_base_peak [kN] | 4 / 4 | -52.5 |" in text
+    assert text.count("compound lower") == 2

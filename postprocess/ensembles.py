@@ -101,8 +101,7 @@ def discover(directory):
         if name.startswith(".") or not os.path.isfile(path):
             continue
         manifest = read_json_object(path)
-        if not isinstance(manifest.get("members"), list):
-            raise PostprocessError(f"{path}: 'members' must be a list")
+        check_manifest(path, manifest)
         ensemble = Ensemble(name, os.path.dirname(path), manifest)
         for member in manifest["members"]:
             folder = os.path.join(ensemble.path, member["name"])
@@ -111,6 +110,29 @@ def discover(directory):
                 casefolders.load_case(folder) if has_record else None
         found[name] = ensemble
     return found
+
+
+def check_manifest(path, manifest):
+    """One PostprocessError line for an ensemble.json the report cannot read: its members a
+    list of objects, each named by a folder beside it, what it changes and drew objects."""
+    members = manifest.get("members")
+    if not isinstance(members, list):
+        raise PostprocessError(f"{path}: 'members' must be a list")
+    for k, member in enumerate(members):
+        where = f"{path}: members[{k}]"
+        if not isinstance(member, dict):
+            raise PostprocessError(f"{where}: expected an object {{...}}")
+        name = member.get("name")
+        if not isinstance(name, str) or not name or name in (".", "..") or \
+                os.sep in name or "/" in name:
+            raise PostprocessError(f"{where}: 'name' must be the name of a folder beside "
+                                   f"{MANIFEST}, got {name!r}")
+        for key in ("changes", "drawn"):
+            if not isinstance(member.get(key) or {}, dict):
+                raise PostprocessError(f"{where}: '{key}' must be an object")
+    for key in ("sweep", "sensitivity"):
+        if not isinstance(manifest.get(key) or {}, dict):
+            raise PostprocessError(f"{path}: '{key}' must be an object or null")
 
 
 def member_summaries(ensemble):

@@ -169,3 +169,22 @@ def test_ensemble_alone_side_by_side_and_in_two_partitions(tmp_path):
     report = (two / "report.md").read_text()
     assert "## Ensembles" in report and "P(breakthrough) = " in report
     assert summary["missing"] == []
+
+
+@pytest.mark.parametrize("manifest, message", [
+    ('{"members": "x"}', "'members' must be a list"),
+    ('{"members": [3]}', "members[0]: expected an object"),
+    ('{"members": [{"nam": "x"}]}', "members[0]: 'name' must be the name of a folder"),
+    ('{"members": [{"name": "../../etc"}]}', "'name' must be the name of a folder"),
+    ('{"members": [{"name": "m", "drawn": 3}]}', "members[0]: 'drawn' must be an object"),
+    ('{"members": [{"name": "m"}], "sweep": 4}', "'sweep' must be an object or null"),
+    ('[1]', "expected a JSON object"),
+])
+def test_report_of_a_bad_ensemble_json_is_one_line(tmp_path, manifest, message):
+    (tmp_path / "e").mkdir()
+    (tmp_path / "e" / "ensemble.json").write_text(manifest)
+    p = subprocess.run([sys.executable, "-m", "postprocess", "report", str(tmp_path)],
+                       cwd=lmp.ROOT, capture_output=True, text=True, timeout=120)
+    assert p.returncode == 2 and p.stderr.count("\n") == 1, p.stderr
+    assert "ensemble.json" in p.stderr and message in p.stderr
+    assert not (tmp_path / "report.md").exists()

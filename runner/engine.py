@@ -26,6 +26,8 @@ def binary(name):
     path = build_dir() / "bin" / name
     if not path.is_file():
         raise RunError(f"{path}: not built (run ./wirenet setup)")
+    if not os.access(path, os.X_OK):
+        raise RunError(f"{path}: not executable (being rebuilt? run ./wirenet setup)")
     return path
 
 
@@ -233,9 +235,13 @@ def _start(cmd, workdir):
     with _LIVE_LOCK:
         if _STOPPED.is_set():
             raise RunError(f"LIGGGHTS not started in {workdir}: the study is stopping")
-        proc = subprocess.Popen(cmd, cwd=workdir, env=mpi_env(), stdout=subprocess.PIPE,
-                                stderr=subprocess.STDOUT, text=True, start_new_session=True,
-                                preexec_fn=_die_with_parent)
+        try:
+            proc = subprocess.Popen(cmd, cwd=workdir, env=mpi_env(), stdout=subprocess.PIPE,
+                                    stderr=subprocess.STDOUT, text=True, start_new_session=True,
+                                    preexec_fn=_die_with_parent)
+        except OSError as exc:      # the binary replaced under us (a rebuild), mpirun missing
+            raise RunError(f"cannot start {cmd[0]} in {workdir}: "
+                           f"{exc.strerror or exc}") from None
         _LIVE.add(proc)
     return proc
 

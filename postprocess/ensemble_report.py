@@ -103,7 +103,8 @@ def _breakthrough_line(e):
     b = e["breakthrough"]
     if not b["n"]:
         return "P(breakthrough): n/a (no member that ended ok says)."
-    return (f"P(breakthrough) = {b['events']}/{b['n']} = {b['p']:.3g}, 95 % Wilson interval "
+    return (f"Block stopped in {b['n'] - b['events']} of {b['n']} members. "
+            f"P(breakthrough) = {b['events']}/{b['n']} = {b['p']:.3g}, 95 % Wilson interval "
             f"[{b['low']:.3g}, {b['high']:.3g}].")
 
 

@@ -18,8 +18,12 @@ ENSEMBLE_NOTE = (
 COMPARISON_NOTE = (
     "The paper's post-load comparison over ensembles: the mean of each load over the compound "
     "net's members minus the mean over the square net's, with Welch's 95 % t interval (unequal "
-    "variances), and the ratio of the means. The interval below 0: the compound net's load is "
-    "lower at that confidence; an interval holding 0: the ensembles cannot tell.")
+    "variances), and the ratio of the means. Where the two ensembles drew the same (the same "
+    "seed and variations: member k of each had the same impact point, speed, turn and factors), "
+    "the paired difference too: the mean of the members' differences with its 95 % t interval, "
+    "in which what the draws do to both nets cancels (common random numbers; the verdict then "
+    "reads it). The interval below 0: the compound net's load is lower at that confidence; an "
+    "interval holding 0: the ensembles cannot tell.")
 SENSITIVITY_NOTE = (
     "One-at-a-time sensitivity (ensemble.sensitivity): each key times each factor alone, every "
     "other number as in the base case (member 0); the change of each output against the base, "
@@ -152,21 +156,31 @@ def ensemble_lines(ensembles, comparisons, figures, directory):
     return lines
 
 
+def _verdict(low, high):
+    return "compound lower" if high < 0 else "compound higher" if low > 0 else "cannot tell"
+
+
 def comparison_lines(ensembles, comparisons):
     if not comparisons:
         return []
     rows = []
     for c in comparisons:
         output = next(o for o in ensembles[c["compound"]]["outputs"] if o["name"] == c["output"])
-        verdict = ("compound lower" if c["high"] < 0 else "compound higher" if c["low"] > 0
-                   else "cannot tell")
+        paired = c.get("paired")
+        # the paired interval where the members drew the same: the draws' own spread cancels
+        verdict = _verdict(*((paired["low"], paired["high"]) if paired else (c["low"], c["high"])))
         rows.append([c["compound"], c["square"], f"{output['label']} [{output['unit']}]",
                      f"{c['n_a']} / {c['n_b']}", _num(_scaled(c["difference"], output)),
                      f"[{_num(_scaled(c['low'], output))}, {_num(_scaled(c['high'], output))}]",
+                     "n/a" if not paired else
+                     f"{_num(_scaled(paired['difference'], output))} "
+                     f"[{_num(_scaled(paired['low'], output))}, "
+                     f"{_num(_scaled(paired['high'], output))}] ({paired['n']} pairs)",
                      _num(c["ratio"]), verdict + (" (quick)" if c["quick"] else "")])
     return ["", "### Compound against square net", "", COMPARISON_NOTE, ""] + _table(
         ["compound", "square", "load", "members", "difference of the means",
-         "95 % interval", "ratio of the means", "verdict"], rows)
+         "Welch 95 % interval", "paired difference, 95 % interval", "ratio of the means",
+         "verdict"], rows)
 
 
 def sensitivity_lines(ensembles):

@@ -253,7 +253,9 @@ def comparisons(summaries):
     """The paper's comparison between ensembles: for every compound-net and square-net
     ensemble of the same kind, mode and dissipation model (random members), the difference of
     the means of the kind's post and anchor (panel: support) loads, compound - square, with
-    Welch's interval, and the ratio of the means."""
+    Welch's interval (independent samples), the ratio of the means, and, where the members
+    of the two ensembles drew the same (the same seed and variations: member k of each got the
+    same point, speed, turn and factors), the paired difference (paired)."""
     rows = []
     for (a, ea), (b, eb) in itertools.permutations(summaries.items(), 2):
         if not (ea["net"] == "compound" and eb["net"] == "square" and ea["kind"] == eb["kind"]
@@ -266,8 +268,43 @@ def comparisons(summaries):
             result = statistics.welch(*values)
             if result is not None:
                 rows.append(dict(compound=a, square=b, output=output, kind=ea["kind"],
-                                 quick=ea["quick"], **result))
+                                 quick=ea["quick"], **result,
+                                 paired=paired_difference(ea, eb, output)))
     return rows
+
+
+def _draws(member):
+    """What a member drew (its point, speed, turn, factors and slack seed), comparable across
+    ensembles; None when it drew nothing."""
+    drawn = dict(member.get("drawn") or {})
+    seed = (member.get("changes") or {}).get("materials.slack_seed")
+    if seed is not None:
+        drawn["slack_seed"] = seed
+    return drawn or None
+
+
+def paired_difference(ea, eb, output):
+    """The mean of the members' differences a_k - b_k over the members k of the same name that
+    drew the same in both ensembles and ended ok (common random numbers: what the draws do to
+    both cancels), with its t interval: dict(difference, low, high, n, method); None unless
+    the two ensembles share their draws (same seed and variations) and 2 pairs or more."""
+    if ea.get("seed") != eb.get("seed") or ea.get("variations") != eb.get("variations"):
+        return None
+    ok_a, ok_b = _usable(ea["members"]), _usable(eb["members"])
+    diffs = []
+    for name, ma in ok_a.items():
+        mb = ok_b.get(name)
+        if mb is None or _draws(ma) is None or _draws(ma) != _draws(mb):
+            continue
+        va, vb = ma["outputs"].get(output), mb["outputs"].get(output)
+        if va is not None and vb is not None:
+            diffs.append(va - vb)
+    if len(diffs) < 2:
+        return None
+    s = statistics.describe(diffs)
+    low, high = s["mean_interval"]
+    return dict(difference=s["mean"], low=low, high=high, n=s["n"],
+                method="paired t (the same draws)")
 
 
 def all_member_summaries(ensembles):

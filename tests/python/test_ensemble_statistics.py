@@ -152,3 +152,35 @@ def test_compound_against_square_comparison():
     text = "\n".join(ensemble_report.comparison_lines(summaries, rows))
     assert "| c | s | post_base_peak [kN] | 4 / 4 | -52.5 |" in text
     assert text.count("compound lower") == 2
+
+
+def test_paired_comparison_of_ensembles_that_drew_the_same():
+    """Member k of both ensembles drew the same (the same seed and variations): the paired
+    difference cancels what the draws do to both nets. Here the square net's load is the
+    compound's plus 10 kN plus a little, whatever was drawn: Welch cannot tell, the pairs can."""
+    compound = [60e3, 140e3, 100e3, 80e3, 120e3]
+    square = [v + 10e3 + d for v, d in zip(compound, (0.0, 1e3, -1e3, 0.5e3, -0.5e3))]
+    c, s = _ensemble("compound", compound), _ensemble("square", square)
+    for e in (c, s):
+        e.update(seed=41, variations={"block speed": "normal factor, COV 0.05"})
+        for k, m in enumerate(e["members"].values()):
+            m["drawn"] = {"speed_factor": 1 + 0.01 * k}
+    rows = ensembles.comparisons({"c": c, "s": s})
+    post = rows[0]
+    assert post["low"] < 0 < post["high"]                   # Welch: cannot tell
+    p = post["paired"]
+    assert p["n"] == 5 and p["difference"] == pytest.approx(-10e3)
+    half = statistics.t_quantile(0.975, 4) * np.std([0, 1e3, -1e3, 0.5e3, -0.5e3], ddof=1) / \
+        math.sqrt(5)
+    assert [p["low"], p["high"]] == pytest.approx([-10e3 - half, -10e3 + half])
+    assert p["high"] < 0
+    from postprocess import ensemble_report
+    text = "\n".join(ensemble_report.comparison_lines({"c": c, "s": s}, rows))
+    assert "(5 pairs) | " in text and "compound lower" in text
+    # another seed: the members drew differently, no pairs
+    s["seed"] = 42
+    assert ensembles.comparisons({"c": c, "s": s})[0]["paired"] is None
+    # a member that drew otherwise is left out of the pairs
+    s["seed"] = 41
+    next(iter(s["members"].values()))["drawn"] = {"speed_factor": 2.0}
+    assert ensembles.comparisons({"c": c, "s": s})[0]["paired"]["n"] == 4

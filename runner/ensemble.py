@@ -345,6 +345,10 @@ class _Checks:
         if v["ensemble.slack_seeds"] and not v["materials.slack_u"] > 0:
             self.fail("ensemble.slack_seeds", "materials.slack_u is 0: the wires have no slack "
                                               "to draw (set materials.slack_u > 0)")
+        if v["ensemble.speed"] != "uniform" and list(v["ensemble.speed_range"]) != [0.0, 0.0]:
+            self.fail("ensemble.speed_range", f"{v['ensemble.speed_range']}: a range of speeds "
+                                              "is for ensemble.speed = \"uniform\" (it is "
+                                              f"{v['ensemble.speed']!r})")
         if v["ensemble.speed"] == "uniform":
             lo, hi = v["ensemble.speed_range"]
             if not 0 < lo < hi:

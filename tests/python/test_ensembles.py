@@ -100,6 +100,8 @@ def run(out, *args, target=None):
     ("ensemble.slack_seeds=true", "ensemble.slack_seeds: materials.slack_u is 0"),
     ('ensemble.speed="uniform"', "ensemble.speed_range: [0.0, 0.0]: must be [low, high]"),
     ("ensemble.point_radius=-1", "ensemble.point_radius: must be >= 0"),
+    ("ensemble.speed_range=[5.0, 9.0]", "a range of speeds is for ensemble.speed = \"uniform\" "
+                                        "(it is 'normal')"),
 ])
 def test_bad_ensemble_keys_one_line_exit_2(tmp_path, setting, message):
     path = tmp_path / "ens.toml"

@@ -9,7 +9,7 @@ import json
 import os
 
 
-from . import casefolders, claims
+from . import casefolders, claims, ensemble_report, ensembles
 from .summary import case_summary
 from .claims import CLAIMS
 from .output import Outputs, json_text
@@ -408,7 +408,8 @@ def _sources_lines(summaries):
         ["key", "value", "cases", "what is known"], rows)
 
 
-def markdown(directory, summaries, verdicts, missing, figures, dissipation=()):
+def markdown(directory, summaries, verdicts, missing, figures, dissipation=(), ensembles_=None,
+             comparisons=(), ensemble_figures=None):
     lines = ["# WireNet study report", "", f"Study directory: `{os.path.abspath(directory)}`", "",
              "## Cases", "", "Peak forces are the largest |force| of platter.csv / block.csv; "
              "first rupture, edge-force peak and wall time come from case.json (n/a: not "
@@ -523,12 +524,16 @@ def markdown(directory, summaries, verdicts, missing, figures, dissipation=()):
         for claim in verdict:
             lines += _claim_lines(claim)
     lines += _dissipation_lines(list(dissipation), verdicts)
+    lines += ensemble_report.ensemble_lines(ensembles_ or {}, comparisons, ensemble_figures or {},
+                                            directory)
     lines += _sources_lines(summaries)
+    lines += ensemble_report.sensitivity_lines(ensembles_ or {})
     lines += ["", "## Cases that are missing or did not end ok", ""]
     absent = [f"- {name}: missing" for name in missing]
     absent += [f"- {n}: status {s['status']}" + (f": {s['verdict'] or s['error']}"
                                                  if s.get("verdict") or s.get("error") else "")
-               for n, s in summaries.items() if s["status"] != "ok"]
+               for n, s in {**summaries, **ensembles.all_member_summaries(ensembles_ or {})
+                            }.items() if s["status"] != "ok"]
     lines += absent or ["None."]
     lines += ["", "## Figures", ""]
     for name, paths in figures.items():
@@ -551,32 +556,45 @@ def build(directory, expected=None, figures=True):
     """Write DIR/report.md, DIR/summary.json and the figures, all or none; return the summary."""
     cases = casefolders.discover(directory)
     summaries = {name: case_summary(case) for name, case in cases.items()}
+    found = ensembles.discover(directory)
+    ensemble_summaries = {name: ensembles.summarize(e) for name, e in found.items()}
+    comparisons = ensembles.comparisons(ensemble_summaries)
     verdicts = {}
     if claims.evaluable(summaries):
         verdicts = {m: claims.evaluate(summaries, m) for m in claims.models(summaries) or [None]}
     dissipation = dissipation_rows(summaries)
-    missing = missing_cases(cases, expected)
+    missing = missing_cases({**cases, **ensembles.all_member_summaries(ensemble_summaries)},
+                            expected)
     with Outputs() as outputs:
-        written = {}
+        written, ensemble_figures = {}, {}
         if figures:
+            from .ensemble_plots import ensemble_figures as draw_ensembles
             from .plots import study_figures
             written = study_figures(directory, cases, outputs, summaries)
+            ensemble_figures = draw_ensembles(directory, found, ensemble_summaries, outputs)
         first = next(iter(verdicts.values()), [])
         summary = {"generator": "postprocess report", "cases": summaries, "missing": missing,
                    "claims": first, "claims_by_model": verdicts,
                    "dissipation_models": dissipation,
                    "impact_peaks": impact_peak_rows(summaries),
                    "fence_comparison": fence_comparison(summaries),
+                   "ensembles": ensemble_summaries, "ensemble_comparisons": comparisons,
                    "figures": {k: [os.path.relpath(p, directory) for p in v]
-                               for k, v in written.items()}}
+                               for k, v in {**written, **ensemble_figures}.items()}}
         with open(outputs.file(os.path.join(directory, "summary.json")), "w",
                   encoding="utf-8") as handle:
             handle.write(json_text(summary))
         with open(outputs.file(os.path.join(directory, "report.md")), "w",
                   encoding="utf-8") as handle:
             handle.write(markdown(directory, summaries, verdicts, missing, written,
-                                  dissipation))
+                                  dissipation, ensemble_summaries, comparisons,
+                                  ensemble_figures))
     return summary
+
+
+def all_cases(summary):
+    """{case: its summary} of a summary.json's cases and ensemble members ('NAME/member_KKK')."""
+    return {**summary["cases"], **ensembles.all_member_summaries(summary.get("ensembles") or {})}
 
 
 def run(args):

@@ -1,7 +1,7 @@
 """Command line behind ./wirenet run and ./wirenet new:
 
-    /usr/bin/python3 -m runner run [STUDY|CASE|FILE.toml] [--quick] [--np N] [--out DIR]
-                                   [--set KEY=VALUE ...]
+    /usr/bin/python3 -m runner run [STUDY|CASE|FILE.toml] [--quick] [--np N] [--partitions M]
+                                   [--out DIR] [--set KEY=VALUE ...]
     /usr/bin/python3 -m runner new KIND               a commented case file on stdout
     /usr/bin/python3 -m runner keys                  the key tables of doc/case_files.md
 
@@ -42,6 +42,10 @@ def build_parser():
                           "counts them): one case runs on N MPI ranks (a punch's run and its 4x "
                           "slower twin side by side on N/2 each); a study runs its cases side by "
                           "side, one rank each (two for a punch and its twin)")
+    run.add_argument("--partitions", type=_ranks, default=None, metavar="M",
+                     help="run M cases (an ensemble's members) at a time as the partitions of "
+                          "one LIGGGHTS multi-partition job (mpirun -np N liggghts -partition "
+                          "MxK, K = N / M ranks each; doc/ensembles.md)")
     run.add_argument("--out", metavar="DIR", help="output folder (default: out/NAME)")
     run.add_argument("--set", action="append", metavar="KEY=VALUE",
                      help="override a case-file key (TOML value; repeatable), e.g. "

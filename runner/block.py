@@ -36,10 +36,26 @@ class Block:
         bodyframes.write_stl(self.path, points, triangles, name="block")
         self.inertia = rotation @ inertia @ rotation.T     # space axes as placed
         self.half = float(-points[:, 2].min())             # centroid to the lowest point
+        self.points = points                               # the vertices as placed
         self.radius = float(np.linalg.norm(points[:, :2], axis=1).max())
+
+    def extent(self, direction):
+        """Distance from the centroid to the block's foremost vertex along ``direction``."""
+        d = np.asarray(direction, float)
+        return float(np.max(self.points @ (d / np.linalg.norm(d))))
 
     def inertia_variables(self):
         """The deck variables of the inertia tensor about the centroid (space axes)."""
         i = self.inertia
         return dict(ixx=repr(i[0, 0]), iyy=repr(i[1, 1]), izz=repr(i[2, 2]),
                     ixy=repr(i[0, 1]), ixz=repr(i[0, 2]), iyz=repr(i[1, 2]))
+
+
+def compose(first, then):
+    """The unit quaternion [w, x, y, z] of the rotation ``then`` followed by ``first`` (the
+    Hamilton product first * then): ``then`` turns the block in its own frame, ``first`` places
+    it."""
+    w1, x1, y1, z1 = first
+    w2, x2, y2, z2 = then
+    return (w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2, w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
+            w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2, w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2)

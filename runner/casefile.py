@@ -32,6 +32,10 @@ class Case:
     keys: dict = field(default_factory=dict, repr=False)   # path -> its params.Key (the schema's)
     # --quick: stated keys whose value differs from the default and keeps the case large or long
     kept_long: tuple = ()
+    # a member of an ensemble (runner/ensemble.py): the ensemble's name and the case-file text
+    # the member was checked from (written to its folder as case.toml)
+    member_of: str = ""
+    member_text: str = field(default="", repr=False)
 
     def __getitem__(self, path):
         return self.values[path]
@@ -408,6 +412,21 @@ class Checker:
                 any(isinstance(v, bool) or not isinstance(v, (int, float)) for v in value)):
             self.fail(label, f"must be a list of numbers [{key.unit or '-'}], got {value!r}")
         return [self._number(key, v, f"{label}[{k}]") for k, v in enumerate(value, 1)]
+
+    def _values(self, key, value, label):
+        """A list of values of another key (a sweep's): each is checked as that key takes it
+        when the members are made (runner/ensemble.py); here only that it is a list."""
+        if not isinstance(value, list):
+            self.fail(label, f"must be a list of values, got {_kind_name(value)} {value!r}")
+        return value
+
+    def _keys(self, key, value, label):
+        """A list of key paths (text), or the word 'unsourced'."""
+        if value == "unsourced":
+            return value
+        if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+            self.fail(label, f"must be a list of keys or 'unsourced', got {value!r}")
+        return value
 
     def _list_int(self, key, value, label):
         if (not isinstance(value, list) or not value or

@@ -26,6 +26,8 @@ def binary(name):
     path = build_dir() / "bin" / name
     if not path.is_file():
         raise RunError(f"{path}: not built (run ./wirenet setup)")
+    if not os.access(path, os.X_OK):
+        raise RunError(f"{path}: not executable (being rebuilt? run ./wirenet setup)")
     return path
 
 
@@ -182,53 +184,85 @@ def run(deck, workdir, variables=None, np=1, total_steps=None, label="", dt=None
     phase that may follow the counted steps for at most that many steps (a rest that ends when
     the motion has died down), reported as such; (name, steps, marker): the phase may start
     earlier, at the log line holding that marker (an impact that ends before its longest
-    duration), and the counted steps are then given as at most."""
+    duration), and the counted steps are then given as at most. A case of a study in
+    partition mode (use_partitions) runs as one partition of a shared mpirun instead
+    (Partitions)."""
     workdir = Path(workdir).resolve()
     workdir.mkdir(parents=True, exist_ok=True)
     deck = Path(deck).resolve()
-    # never "-screen none": LIGGGHTS 3.8's STL reader (input_mesh_tri.cpp) prints to the
-    # screen without checking it, so any deck with a mesh would crash
-    cmd = [str(binary("liggghts")), "-in", str(deck), "-log", "log.lammps", "-echo", "none",
-           "-screen", "screen.txt"]
     # the decks include their shared parts from ${inc} (inputs/include)
     variables = {"inc": str(INPUTS / "include"), **(variables or {})}
-    for name, value in variables.items():
-        cmd += ["-var", name, str(value)]
+    cmd = _command(deck, variables)
     if np > 1:
         cmd = ["mpirun", "-np", str(np)] + cmd
     # the exact command, so that a run can be repeated by hand (from its folder)
     (workdir / "command.txt").write_text(" ".join(shlex.quote(c) for c in cmd) + "\n")
-    start = time.time()
     if current_label():
         label = f"{current_label()}: {label}"
+    follow = dict(total=total_steps, label=label, dt=dt, phase_marker=phase_marker, then=then,
+                  marker_seen=marker_seen)
+    pool = _PARTITIONS.get("pool")
+    if pool is not None and pool.takes(current_label()):
+        return pool.submit(_Request(deck, workdir, variables, current_label(), follow))
+    start = time.time()
     # own process group: a signal to the study reaches LIGGGHTS only through stop_all, which
     # also reaches every rank under mpirun; the check and the start are one step under the lock
-    with _LIVE_LOCK:
-        if _STOPPED.is_set():
-            raise RunError(f"LIGGGHTS not started in {workdir}: the study is stopping")
-        proc = subprocess.Popen(cmd, cwd=workdir, env=mpi_env(), stdout=subprocess.PIPE,
-                                stderr=subprocess.STDOUT, text=True, start_new_session=True,
-                                preexec_fn=_die_with_parent)
-        _LIVE.add(proc)
+    proc = _start(cmd, workdir)
     try:
-        output = _follow(proc, workdir, total_steps, label, dt, phase_marker, then, marker_seen)
-    except BaseException:      # an interrupt (or any error) while it runs: it must not outlive us
-        stop([proc])
-        raise
+        progress = [Progress(workdir / "log.lammps", **follow)] if total_steps else []
+        output = _follow(proc, progress, [current_label()] if current_label() else [])
     finally:
         with _LIVE_LOCK:
             _LIVE.discard(proc)
-    log = (workdir / "log.lammps").read_text(errors="replace") if (workdir / "log.lammps").exists() else ""
-    errors = [l for l in (log + output).splitlines() if "ERROR" in l]
-    if proc.returncode or errors:
-        msg = errors[0] if errors else (output.strip().splitlines() or ["no output"])[-1]
+    _check(deck, workdir, proc.returncode, output)
+    return time.time() - start
+
+
+def _command(deck, variables):
+    """LIGGGHTS' command line of a deck with its -var values (without mpirun)."""
+    # never "-screen none": LIGGGHTS 3.8's STL reader (input_mesh_tri.cpp) prints to the
+    # screen without checking it, so any deck with a mesh would crash
+    cmd = [str(binary("liggghts")), "-in", str(deck), "-log", "log.lammps", "-echo", "none",
+           "-screen", "screen.txt"]
+    for name, value in variables.items():
+        cmd += ["-var", name, str(value)]
+    return cmd
+
+
+def _start(cmd, workdir):
+    """Popen of a LIGGGHTS command (or its mpirun) in its own process group, registered in
+    _LIVE; refused once the study is stopping."""
+    with _LIVE_LOCK:
+        if _STOPPED.is_set():
+            raise RunError(f"LIGGGHTS not started in {workdir}: the study is stopping")
+        try:
+            proc = subprocess.Popen(cmd, cwd=workdir, env=mpi_env(), stdout=subprocess.PIPE,
+                                    stderr=subprocess.STDOUT, text=True, start_new_session=True,
+                                    preexec_fn=_die_with_parent)
+        except OSError as exc:      # the binary replaced under us (a rebuild), mpirun missing
+            raise RunError(f"cannot start {cmd[0]} in {workdir}: "
+                           f"{exc.strerror or exc}") from None
+        _LIVE.add(proc)
+    return proc
+
+
+def _check(deck, workdir, returncode, output, other=""):
+    """RunError with LIGGGHTS' ERROR line (of its log, else of its output) unless the run ended
+    well; ``other``: why the process ended when this run's own log says nothing (a partition
+    job that another partition stopped)."""
+    log_path = workdir / "log.lammps"
+    log = log_path.read_text(errors="replace") if log_path.exists() else ""
+    own = [l for l in log.splitlines() if "ERROR" in l]
+    errors = own or ([] if other else [l for l in output.splitlines() if "ERROR" in l])
+    if returncode or errors:
+        msg = errors[0] if errors else other or \
+            (output.strip().splitlines() or ["no output"])[-1]
         raise RunError(f"LIGGGHTS failed in {workdir}: {msg}")
     # LIGGGHTS ends a run early, writes a restart and exits 0 on SIGTERM from outside: a deck
     # that prints END_MARKER as its last line must have reached it
     if END_MARKER in deck.read_text(errors="replace") and END_MARKER not in log:
         raise RunError(f"LIGGGHTS stopped before the end of {deck.name} in {workdir} "
-                               f"(killed from outside?): the case is not complete")
-    return time.time() - start
+                       f"(killed from outside?): the case is not complete")
 
 
 END_MARKER = "wirenet: end of deck"
@@ -245,24 +279,27 @@ def log_line(workdir, marker):
         raise RunError(f"{path}: {exc.strerror or exc}") from None
 
 
-def _follow(proc, workdir, total_steps, label, dt, phase_marker, then=None, marker_seen=None):
-    """Wait for the process, printing progress lines; return its output. The output goes to a
-    pipe read only at the end, so LIGGGHTS must keep it short (-screen screen.txt)."""
+def _follow(proc, progress, cases):
+    """Wait for the process, printing the progress lines of each Progress every 5 s; return its
+    output, read only at the end (LIGGGHTS must keep it short: -screen FILE). An interrupt (or
+    any error) while it runs stops it: it must not outlive us."""
     last = time.time()
-    progress = Progress(workdir / "log.lammps", total_steps, label, dt, phase_marker, then,
-                        marker_seen) if total_steps else None
-    case = current_label()
-    while _reap(proc, case) is None:
-        time.sleep(0.5)
-        if progress and time.time() - last > 5:
-            last = time.time()
-            progress.report()
+    try:
+        while _reap(proc, cases) is None:
+            time.sleep(0.5)
+            if progress and time.time() - last > 5:
+                last = time.time()
+                for p in progress:
+                    p.report()
+    except BaseException:
+        stop([proc])
+        raise
     return proc.stdout.read()
 
 
-def _reap(proc, case):
+def _reap(proc, cases):
     """proc's exit code once it has ended (reaped here with wait4, which also gives its CPU
-    time and its waited-for children's, counted for the case), else None."""
+    time and its waited-for children's, counted for the cases in equal shares), else None."""
     if proc.returncode is not None:
         return proc.returncode
     try:
@@ -272,8 +309,8 @@ def _reap(proc, case):
     if pid == 0:
         return None
     proc.returncode = os.waitstatus_to_exitcode(status)
-    if case is not None:
-        _CPU.add(case, usage.ru_utime + usage.ru_stime)
+    for case in cases:
+        _CPU.add(case, (usage.ru_utime + usage.ru_stime) / len(cases))
     return proc.returncode
 
 
@@ -342,3 +379,177 @@ class Progress:
         most = " at most" if self.then and len(self.then) > 2 else ""
         print(f"    {self.label}: step {step}/{self.total}{most} ({100 * frac:.0f} %{sim}), "
               f"ETA {eta}{most}", file=sys.stderr, flush=True)
+
+
+# ---------------------------------------------------------------------------------------------
+# LIGGGHTS' multi-partition mode
+
+_PARTITIONS = {}      # "pool": the Partitions of a study in partition mode (use_partitions)
+
+
+def use_partitions(pool):
+    """Route the runs of the cases that join ``pool`` through it (None: back to one process
+    per run)."""
+    if pool is None:
+        _PARTITIONS.pop("pool", None)
+    else:
+        _PARTITIONS["pool"] = pool
+
+
+class _Request:
+    """One run waiting for its partition: the deck, its folder and variables, the case it is
+    for, its progress settings; then how it ended."""
+
+    def __init__(self, deck, workdir, variables, case, follow):
+        self.deck, self.workdir, self.variables, self.case = deck, workdir, variables, case
+        self.follow = follow
+        self.done = False
+        self.error = None
+        self.wall = 0.0
+
+
+def wrapper_text(request):
+    """The partition's own deck: into the run's folder, its log there, its variables as the
+    command line would give them (index variables: the deck's own `index` defaults yield to
+    them), then the deck."""
+    def quoted(name, value):
+        text = str(value)
+        if '"' in text:
+            raise RunError(f"{request.workdir}: {name}: a value with a double quote cannot be "
+                           "handed to a partition")
+        return f'"{text}"'
+    lines = ["# one partition of a LIGGGHTS multi-partition job (runner/engine.py Partitions):",
+             "# this run's folder, log and variables, then its deck; the same run alone:",
+             "# command.txt", f"shell cd {quoted('folder', request.workdir)}",
+             f"log {quoted('folder', request.workdir / 'log.lammps')}"]
+    lines += [f"variable {name} index {quoted('-var ' + name, value)}"
+              for name, value in request.variables.items()]
+    lines.append(f"include {quoted('deck', request.deck)}")
+    return "\n".join(lines) + "\n"
+
+
+class Partitions:
+    """The runs of the cases side by side in a study, gathered into LIGGGHTS' multi-partition
+    mode: one `mpirun -np P*K liggghts -partition PxK` of P partitions of K ranks, each running
+    one case's deck in its own folder (the top deck's `world` variable names each partition's
+    wrapper, wrapper_text). A batch starts once every case that has joined waits for a run (at
+    most ``slots`` cases join: the scheduler's capacity); runs of different decks (a stable-step
+    probe beside an impact) share a batch. One partition's ERROR stops the whole job
+    (LIGGGHTS: MPI_Abort): its case fails with its own ERROR line, the others with that one.
+    ``folder``: where each batch keeps its top deck, command and universe log."""
+
+    def __init__(self, slots, ranks, folder):
+        self.slots, self.ranks, self.folder = slots, ranks, Path(folder)
+        self.cond = threading.Condition()
+        self.joined, self.waiting = set(), []
+        self.batches = 0
+        self.closed = False
+        self.thread = threading.Thread(target=self._loop, daemon=True)
+        self.thread.start()
+
+    def takes(self, case):
+        with self.cond:
+            return case is not None and case in self.joined
+
+    def join(self, case):
+        with self.cond:
+            self.joined.add(case)
+            self.cond.notify_all()
+
+    def leave(self, case):
+        with self.cond:
+            self.joined.discard(case)
+            self.cond.notify_all()
+
+    def close(self):
+        with self.cond:
+            self.closed = True
+            self.cond.notify_all()
+        self.thread.join()
+
+    def submit(self, request):
+        """Wait until the request's batch has run; its wall time, or its RunError."""
+        with self.cond:
+            self.waiting.append(request)
+            self.cond.notify_all()
+            while not request.done:
+                self.cond.wait()
+        if request.error is not None:
+            raise request.error
+        return request.wall
+
+    def _ready(self):
+        cases = {r.case for r in self.waiting}
+        return bool(self.waiting) and (len(self.waiting) >= self.slots or self.joined <= cases)
+
+    def _loop(self):
+        while True:
+            with self.cond:
+                while not self.closed and not self._ready():
+                    self.cond.wait()
+                if self.closed:
+                    for request in self.waiting:
+                        request.error, request.done = RunError("the study stopped"), True
+                    self.cond.notify_all()
+                    return
+                batch, self.waiting = self.waiting[:self.slots], self.waiting[self.slots:]
+            try:
+                self._run(batch)
+            except BaseException as exc:    # noqa: B902 (handed to the cases' threads)
+                for request in batch:
+                    request.error = request.error or (
+                        exc if isinstance(exc, RunError) else RunError(str(exc)))
+            with self.cond:
+                for request in batch:
+                    request.done = True
+                self.cond.notify_all()
+
+    def _run(self, batch):
+        """One mpirun of the batch's runs; each request's error (or none) set after it."""
+        self.batches += 1
+        folder = self.folder / f"batch_{self.batches:04d}"
+        folder.mkdir(parents=True, exist_ok=True)
+        wrappers = []
+        for request in batch:
+            path = request.workdir / "partition.in"
+            path.write_text(wrapper_text(request))
+            wrappers.append(f'"{path}"')
+        (folder / "top.in").write_text(
+            "# LIGGGHTS multi-partition job (runner/engine.py Partitions): partition N runs the\n"
+            "# N-th wrapper, which goes into its run's folder and includes its deck\n"
+            f"variable member world {' '.join(wrappers)}\ninclude ${{member}}\n")
+        p, k = len(batch), self.ranks
+        cmd = ["mpirun", "-np", str(p * k), str(binary("liggghts")), "-partition", f"{p}x{k}",
+               "-in", "top.in", "-log", "log.lammps", "-plog", "log.partition",
+               "-pscreen", "screen.partition", "-echo", "none"]
+        (folder / "command.txt").write_text(" ".join(shlex.quote(c) for c in cmd) + "\n" +
+                                            "".join(f"# partition {j}: {r.workdir}\n"
+                                                    for j, r in enumerate(batch)))
+        start = time.time()
+        proc = _start(cmd, folder)
+        try:
+            progress = [Progress(r.workdir / "log.lammps", **r.follow) for r in batch
+                        if r.follow["total"]]
+            output = _follow(proc, progress, [r.case for r in batch])
+        finally:
+            with _LIVE_LOCK:
+                _LIVE.discard(proc)
+        failed = _first_error(batch)
+        for request in batch:
+            request.wall = time.time() - start
+            why = f"the partition job ended (exit {proc.returncode}): {failed}" if failed else ""
+            try:
+                _check(request.deck, request.workdir, proc.returncode, output, why)
+            except RunError as exc:
+                request.error = exc
+
+
+def _first_error(batch):
+    """'FOLDER: ERROR line' of the first partition whose log holds an ERROR line, or ''."""
+    for request in batch:
+        log = request.workdir / "log.lammps"
+        text = log.read_text(errors="replace") if log.exists() else ""
+        line = next((l for l in text.splitlines() if "ERROR" in l), None)
+        if line:
+            return f"{request.workdir}: {line}"
+    return ""

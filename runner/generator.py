@@ -14,7 +14,10 @@ def generate(kind, out_prefix, *options):
     handed to LIGGGHTS, which runs in another folder)."""
     out_prefix = os.path.abspath(out_prefix)
     cmd = [str(engine.binary("wirenet-gen")), *kind.split(), *map(str, options), "--out", out_prefix]
-    p = subprocess.run(cmd, capture_output=True, text=True)
+    try:
+        p = subprocess.run(cmd, capture_output=True, text=True)
+    except OSError as exc:          # the binary replaced under us (a rebuild)
+        raise RunError(f"cannot start {cmd[0]}: {exc.strerror or exc}") from None
     if p.returncode:
         raise RunError(f"wirenet-gen failed: {p.stderr.strip()}")
     return f"{out_prefix}.data"

@@ -8,6 +8,12 @@ processes: the kernel shares the core, no rank spins). An impact of a sequence w
 one before it; a punch that starts from another's pre-load (punch.preload_from) waits, holding
 no core, until that pre-load is written. A failed case stops the others (marked 'interrupted',
 redone on the next run) and the study.
+
+Members of an ensemble (runner/ensemble.py) are cases like any other, one rank each (a member
+gives the same result wherever it runs: alone with --np 1, or side by side); each writes its
+case file, case.toml, into its folder when it starts. In partition mode (--partitions M) up to M
+cases run at once as the partitions of one LIGGGHTS multi-partition job of K = N / M ranks each
+(engine.Partitions).
 """
 
 import hashlib
@@ -22,7 +28,7 @@ from postprocess.errors import PostprocessError
 from postprocess.output import write_json
 from postprocess.record import CaseRecord
 
-from . import engine, kinds, schema
+from . import engine, ensemble, kinds, schema
 from .errors import StudyError
 from .kinds.base import RunContext
 
@@ -39,8 +45,10 @@ class Interrupted(BaseException):
 
 
 def case_fingerprint(case):
-    """sha256 of a case's checked values: a changed case file (or --set) runs the case again."""
-    text = json.dumps(dict(values=case.values, impacts=case.impacts, zones=case.zones),
+    """sha256 of a case's checked values: a changed case file (or --set) runs the case again.
+    The [ensemble] keys are no input of a run (an ensemble's members are cases of their own)."""
+    values = {k: v for k, v in case.values.items() if not k.startswith("ensemble.")}
+    text = json.dumps(dict(values=values, impacts=case.impacts, zones=case.zones),
                       sort_keys=True, default=str)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
@@ -96,6 +104,7 @@ class Job:
         self.share_event = None
         self.thread = self.error = self.facts = None
         self.start = self.wall = 0.0
+        self.partitions = None    # the engine.Partitions its runs go through, if any
 
     def record(self, quick, status, **fields):
         return CaseRecord(kind=self.kind.record_kind(), status=status, quick=bool(quick),
@@ -117,6 +126,9 @@ class Job:
                 self.facts = self.kind.run(self.index, ctx)
         except BaseException as exc:   # noqa: B902 (handed on to the study's thread)
             self.error = exc
+        finally:
+            if self.partitions is not None:
+                self.partitions.leave(self.name)
         self.wall = time.time() - self.start
 
     def waits(self, waiting):
@@ -129,19 +141,25 @@ class Job:
                 not self.source.share_event.is_set())
 
 
-def plan(jobs, np_):
+def plan(jobs, np_, partitions=None):
     """Ranks of each case. Alone, or on one core, a case takes all --np ranks (a punch splits
     them between its run and its twin). Several cases on several cores run side by side, each
     on as few ranks as it can use well: one, two for a punch with its twin (one each; the
     first of the two to end gives its core back); a net of a few thousand nodes gains less from
-    a second rank than a second case does (docs/PERFORMANCE.md). Returns the number of cores
-    shared out."""
+    a second rank than a second case does (docs/PERFORMANCE.md). A member of an ensemble runs
+    on one rank wherever it runs (its result then does not depend on the others). With
+    ``partitions`` M, each case is one partition of np_ / M ranks, M at a time. Returns the
+    number of cores (partitions) shared out."""
+    if partitions:
+        for job in jobs:
+            job.ranks, job.cost = np_ // partitions, 1
+        return partitions
     if np_ == 1 or len(jobs) == 1:
         for job in jobs:
-            job.ranks, job.cost = np_, 1
+            job.ranks, job.cost = (1 if job.case.member_of else np_), 1
         return 1
     for job in jobs:
-        job.ranks = job.cost = min(job.kind.width, np_)
+        job.ranks = job.cost = 1 if job.case.member_of else min(job.kind.width, np_)
     return np_
 
 
@@ -159,10 +177,11 @@ def share_preloads(jobs):
     return sources
 
 
-def run_cases(loaded, out, quick, np_):
+def run_cases(loaded, out, quick, np_, partitions=None):
     """Run the cases not yet complete in this mode, side by side where cores allow (plan), the
-    longest first; the folder lock is held by the caller. Returns the case folder names and the
-    records of the cases that ran."""
+    longest first; with ``partitions`` M, M at a time as the partitions of one LIGGGHTS job of
+    np_ / M ranks each (engine.Partitions; its batches in OUT/.partitions). The folder lock is
+    held by the caller. Returns the case folder names."""
     units = [(case, kind, name, index) for case in loaded
              for kind in [kinds.of(case)] for name, index in kind.units()]
     jobs = []
@@ -173,9 +192,15 @@ def run_cases(loaded, out, quick, np_):
                   "again)", flush=True)
         else:
             jobs.append(job)
-    capacity = plan(jobs, np_)
+    capacity = plan(jobs, np_, partitions)
     sources = share_preloads(jobs)
     engine.allow_new_runs()
+    pool = None
+    if partitions and jobs:
+        pool = engine.Partitions(partitions, np_ // partitions, os.path.join(out, ".partitions"))
+        engine.use_partitions(pool)
+        for job in jobs:
+            job.partitions = pool
     pending, running = sorted(jobs, key=lambda j: -j.kind.weight()), []
     try:
         while pending or running:
@@ -199,6 +224,9 @@ def run_cases(loaded, out, quick, np_):
         stop_jobs(running, out, quick)
         raise
     finally:
+        if pool is not None:
+            engine.use_partitions(None)
+            pool.close()
         for job in sources:       # the hand-over of a shared pre-load is no output
             restart = os.path.join(out, job.name, "run", "preload.restart")
             if os.path.isfile(restart):
@@ -242,12 +270,16 @@ def _finish(job, out, quick, running, pending):
 def _launch(job, out, quick):
     case_dir = os.path.join(out, job.name)
     fresh_case_dir(case_dir)
+    if job.case.member_of:
+        ensemble.write_member_file(job.case, case_dir)
     # 'running' until the case returns: an interrupted or failed case is never 'ok'
     write_record(case_dir, job.record(quick, record.RUNNING))
     side = f", {job.ranks} rank{'s' if job.ranks > 1 else ''}"
     print(f"{job.prefix}: running ({'quick' if quick else 'full'}{side}) from "
           f"{os.path.relpath(job.case.path)}", flush=True)
     job.start = time.time()
+    if job.partitions is not None:
+        job.partitions.join(job.name)
     job.thread = threading.Thread(target=job.work, args=(out,), daemon=True)
     job.thread.start()
 

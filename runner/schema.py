@@ -145,7 +145,59 @@ COMMON = [
         PAPER, low=0.0, low_open=True, high=100.0, per_item=True),
 ]
 
-KEYS = COMMON + [key for kind in kinds.ALL for key in kind.keys]
+ENSEMBLES = "doc/ensembles.md"
+
+
+def _ensemble(name, type_, default, unit, doc, source=ENSEMBLES, **kw):
+    return Key(f"ensemble.{name}", type_, default, unit, doc, source, **kw)
+
+
+# [ensemble]: what runner/ensemble.py makes of one case file: random members, a sweep or a
+# one-at-a-time sensitivity study (each member a plain case of its own; doc/ensembles.md). A
+# kind takes them with "ensemble.*" in its `takes`.
+ENSEMBLE = [
+    _ensemble("members", "integer", 1, "", "random members of the case (1: the case alone); "
+              "with ensemble.sweep, members per swept value", low=1, high=10000),
+    _ensemble("seed", "integer", 1, "", "seed of the draws: member k draws from the streams "
+              "(seed, k, variable), so members added later leave the first ones as they were",
+              low=0, high=2 ** 31 - 1),
+    _ensemble("slack_seeds", "bool", False, "", "each member draws its own "
+              "materials.slack_seed (the wires' random slack; needs materials.slack_u > 0)"),
+    _ensemble("point_radius", "number", 0.0, "m", "impact point uniform over a disc of this "
+              "radius around the case's (impact.point in the panel's plane; fence.impact_point "
+              "in the net's plane); 0: the case's point", low=0.0, high=100.0),
+    _ensemble("speed", "choice", "fixed", "", "block speed: fixed (the case's); normal (the "
+              "case's speed times a factor of mean 1 and coefficient of variation "
+              "ensemble.speed_cov, truncated at 3 standard deviations); uniform (on "
+              "ensemble.speed_range); the direction stays the case's",
+              choices=("fixed", "normal", "uniform")),
+    _ensemble("speed_cov", "number", 0.05, "", "coefficient of variation of the block speed "
+              "(ensemble.speed = normal)", low=0.0, high=0.3),
+    _ensemble("speed_range", "vector2", [0.0, 0.0], "m/s", "[low, high] of the block speed "
+              "(ensemble.speed = uniform)"),
+    _ensemble("orientation", "choice", "fixed", "", "block orientation: fixed (the case's), or "
+              "random: a uniformly random rotation of the case's orientation (impact.orientation, "
+              "fence.block_orientation)", choices=("fixed", "random")),
+    _ensemble("material_cov", "number", 0.0, "", "coefficient of variation of two factors "
+              "(normal, mean 1, truncated at 3 standard deviations): one on the wires' stresses "
+              "(materials.curve), one on the ropes' (materials.rope_E, rope_sigma_t, rope_tau_c "
+              "and a fence's fence.support_curve); 0: none", low=0.0, high=0.3),
+    _ensemble("friction_cov", "number", 0.0, "", "coefficient of variation of a factor on "
+              "contact.mu (normal, mean 1, truncated at 3 standard deviations); 0: none",
+              low=0.0, high=0.3),
+    _ensemble("sweep", "text", "", "", "a sweep: the key whose values the members take, e.g. "
+              "'fence.speed' (a key of [[impact]]: every entry); '': none"),
+    _ensemble("values", "values", [], "", "the sweep's values, each checked as the swept key "
+              "takes it, e.g. [20.0, 22.5, 25.0, 27.5, 30.0]"),
+    _ensemble("sensitivity", "keys", [], "", "one-at-a-time sensitivity: keys (numbers, or "
+              "[[strain, stress]] tables whose stresses are scaled), each times every factor of "
+              "ensemble.factors alone, against the base case (member 0); 'unsourced': every "
+              "number of the case without a read source (runner/schema.py unsourced)"),
+    _ensemble("factors", "list-number", [0.8, 1.2], "", "the factors of the sensitivity study",
+              "issue #45 (0.8x and 1.2x)", low=0.0, low_open=True, high=100.0),
+]
+
+KEYS = COMMON + [key for kind in kinds.ALL for key in kind.keys] + ENSEMBLE
 BY_PATH = {k.path: k for k in KEYS}
 if len(BY_PATH) != len(KEYS):
     raise RuntimeError("schema: a key is declared twice")

@@ -16,7 +16,7 @@ import tomllib
 
 from postprocess import record, report
 
-from . import INPUTS, casefile, engine, kinds
+from . import INPUTS, casefile, engine, ensemble, kinds
 from .errors import CaseFileError, StudyError
 from .kinds.punch import PRELOAD_FREE
 from .scheduler import Interrupted, run_cases
@@ -130,6 +130,43 @@ def load_cases(files, quick, overrides):
     return loaded
 
 
+def expand_ensembles(loaded, out):
+    """The cases to run: each case file as it is, or, when its [ensemble] section asks for
+    members, its members (runner/ensemble.py; their case files will be OUT/NAME/member_KKK/
+    case.toml); and the ensembles. Every member is checked before anything runs."""
+    cases, ensembles = [], []
+    for case in loaded:
+        if not ensemble.active(case):
+            cases.append(case)
+            continue
+        try:
+            found = ensemble.expand(case, out)
+        except CaseFileError as exc:
+            raise StudyError(str(exc)) from None
+        ensembles.append(found)
+        cases += found.cases
+    return cases, ensembles
+
+
+# what partition mode runs: a kind whose case runs one LIGGGHTS process at a time
+PARTITION_KINDS = ("impact", "fence")
+
+
+def check_partitions(cases, np_, partitions):
+    """--partitions M: M cases at a time as the partitions of one LIGGGHTS job of --np / M
+    ranks each (engine.Partitions); one line for what cannot be."""
+    if partitions is None:
+        return
+    if np_ % partitions:
+        raise StudyError(f"--partitions {partitions}: --np {np_} is not a multiple of it (each "
+                         "partition runs on --np / --partitions ranks)")
+    for case in cases:
+        if case.kind not in PARTITION_KINDS:
+            raise StudyError(f"--partitions: {case.name} is a {case.kind} case; partition mode "
+                             f"runs {' and '.join(PARTITION_KINDS)} cases (a punch runs its "
+                             "slower twin beside it)")
+
+
 def _preload_free(path):
     return any(path == p or (p.endswith("*") and path.startswith(p[:-1]))
                for p in PRELOAD_FREE)
@@ -212,16 +249,22 @@ def run(args):
         np_ = default_ranks() if args.np is None else args.np
         _check_np(np_)
         name, files = resolve_target(args.target or DEFAULT_STUDY)
-        loaded = load_cases(files, args.quick, args.set or ())
-        out = output_folder(args.out or os.path.join("out", name))
+        given = args.out or os.path.join("out", name)
+        loaded, ensembles = expand_ensembles(load_cases(files, args.quick, args.set or ()),
+                                             os.path.abspath(given))
+        partitions = args.partitions
+        check_partitions(loaded, np_, partitions)
+        out = output_folder(given)
         start = time.time()
         with FolderLock(out):
-            names = run_cases(loaded, out, args.quick, np_)
+            for found in ensembles:
+                ensemble.write_manifest(out, found)
+            names = run_cases(loaded, out, args.quick, np_, partitions)
             summary = report.build(out, expected=names)
         for claim in summary["claims"]:
             print(f"claim {claim['id']}: {claim['verdict']}")
         print(f"report: {os.path.join(out, 'report.md')} (wall time {time.time() - start:.0f} s)")
-        unsound = {n: s for n, s in summary["cases"].items()
+        unsound = {n: s for n, s in report.all_cases(summary).items()
                    if n in names and s["status"] in record.UNSOUND}
         if unsound:
             for n, s in unsound.items():

@@ -14,7 +14,8 @@ SECTION_TITLES = {
     "successive impacts on the same net)", "cantilever": "[cantilever]",
     "fence": "[fence] the fence and its block (kind fence; doc/fence.md)",
     "output": "[output] intervals of the outputs",
-    "output.zones": "[[output.zones]] circles whose bond tensions are summed per family"}
+    "output.zones": "[[output.zones]] circles whose bond tensions are summed per family",
+    "ensemble": "[ensemble] members, sweeps and sensitivity studies of the case (doc/ensembles.md)"}
 
 
 def toml_value(value):
@@ -85,8 +86,9 @@ def _type_text(key):
     if key.choices:
         return " \\| ".join(key.choices)
     return {"vector2": "[x, y]", "vector3": "[x, y, z]", "quat": "[w, x, y, z]",
-            "pairs": "[[e, s], ...]", "list-int": "[n, ...]", "list-number": "[x, ...]", "bending": "number or "
-            "\"calibrated\""}.get(key.type, key.type)
+            "pairs": "[[e, s], ...]", "list-int": "[n, ...]", "list-number": "[x, ...]",
+            "values": "[value, ...]", "keys": "[\"key\", ...] or \"unsourced\"",
+            "bending": "number or \"calibrated\""}.get(key.type, key.type)
 
 
 def kind_names():

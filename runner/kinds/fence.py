@@ -35,7 +35,7 @@ from ..budget import Term
 from ..errors import RunError
 from postprocess import record
 
-from ..block import Block
+from ..block import Block, compose
 from ..generator import generate
 from ..materials import MATERIALS, SOURCES, bending_of, rope_strength_keyword
 from ..panel import generator_options, node_masses
@@ -107,6 +107,12 @@ KEYS = (
     _fence("speed", "number", 25.0, "m/s", "block speed against the fence normal, at the middle "
            "of the middle module", EAD + " (>= 25 m/s)", low=0.1, high=100.0, quick=5.0,
            var="speed"),
+    _fence("impact_point", "vector2", [0.0, 0.0], "m", "aim point: offset from the middle of the "
+           "middle module along the fence (x) and up the net's plane", EAD + " (the middle of "
+           "the middle module)"),
+    _fence("block_orientation", "quat", [1.0, 0.0, 0.0, 0.0], "", "the block's turn in its own "
+           "frame from face-on (a face towards the fence), unit quaternion [w, x, y, z]",
+           "doc/fence.md (face-on)"),
     _fence("duration", "number", 0.8, "s", "longest simulated time after release (the impact "
            "ends earlier: fence.impact_end)", "doc/fence.md", low=0.0, low_open=True, high=20.0,
            quick=0.15),
@@ -230,6 +236,9 @@ def component_types(meta, ntypes):
 
 
 SETTLED_DIR = ".settled"    # DIR/.settled/KEY/settled.restart: settled fences of the study
+# deck variables the settling never reads (the block, the impact's end and damping): fences that
+# differ only in them share one settled state (an ensemble of block speeds, masses or sizes)
+IMPACT_ONLY = ("mass", "block_side", "speed", "impact_end", "impacts", "alpha")
 
 
 def keep_settled(restart, cached):
@@ -267,6 +276,16 @@ def block_turn(tilt_deg):
     return (math.cos(turn / 2), math.sin(turn / 2), 0.0, 0.0)
 
 
+def aim_point(meta, offset):
+    """The block's aim: the generator's impact target (the middle of the middle module) moved
+    by offset = [along x, up the net's plane (the direction x cross n)]."""
+    n = np.asarray(meta["normal"], float)
+    up = np.cross([1.0, 0.0, 0.0], n)
+    target = np.asarray(meta["impact_target"], float)
+    return tuple(float(v) for v in target + offset[0] * np.array([1.0, 0.0, 0.0]) +
+                 offset[1] * up / np.linalg.norm(up))
+
+
 class Setup:
     """Everything a fence run needs, from the checked case; variables() gives the deck's -var
     values."""
@@ -289,10 +308,17 @@ class Setup:
         self.types_path = prefix + ".types.in"
         self.meta = read_json(self.json_path)
         self.layers = 2 if net == "compound" else 1
-        # the impacts' block, turned as released (the frames draw its STL from that pose)
+        # the impacts' block, turned as released (the frames draw its STL from that pose): face-on,
+        # then turned in its own frame by fence.block_orientation
         self.block = Block(workdir, self.mass, self.side,
-                           block_turn(self.meta["fence"]["post_tilt_deg"]))
+                           compose(block_turn(self.meta["fence"]["post_tilt_deg"]),
+                                   c["fence.block_orientation"]))
         self.block_path, self.quat = self.block.path, self.block.quat
+        self.aim = aim_point(self.meta, c["fence.impact_point"])
+        # centroid to the foremost point along -n: side/2 face-on (exactly), else the vertices'
+        face_on = list(c["fence.block_orientation"]) == [1.0, 0.0, 0.0, 0.0]
+        self.block_half = self.side / 2 if face_on else \
+            self.block.extent(-np.asarray(self.meta["normal"], float))
         data = read_data(self.data_path)
         masses = node_masses(data)
         self.fence_mass = float(np.sum(masses))
@@ -380,12 +406,12 @@ class Setup:
             with open(path, "rb") as fh:
                 h.update(fh.read().replace(prefix, b"PREFIX"))
         variables = {k: v for k, v in self.settle_variables().items()
-                     if k not in ("data", "types", "shackles", "out", "inc")}
+                     if k not in ("data", "types", "shackles", "out", "inc") + IMPACT_ONLY}
         h.update(json.dumps(variables, sort_keys=True).encode())
         return h.hexdigest()[:20]
 
     def variables(self):
-        tx, ty, tz = self.meta["impact_target"]
+        tx, ty, tz = self.aim
         nx, ny, nz = self.meta["normal"]
         v = dict(self.settle_variables(), **self.block.inertia_variables(), dt=repr(self.dt),
                  steps=self.steps, every=self.every,
@@ -393,7 +419,7 @@ class Setup:
                  target_x=repr(tx), target_y=repr(ty), target_z=repr(tz), normal_x=repr(nx),
                  normal_y=repr(ny), normal_z=repr(nz), block_cut=repr(self.block.cut),
                  quat=" ".join(map(repr, self.quat)),
-                 block_half=repr(self.side / 2), gap=GAP, foot_r=repr(max(1.0, self.side)),
+                 block_half=repr(self.block_half), gap=GAP, foot_r=repr(max(1.0, self.side)),
                  node_r=repr(self.node_r), rest_steps=self.rest_steps,
                  rest_chunk=self.every, rest_ke=repr(REST_KE * self.energy),
                  rest_viscous=repr(REST_VISCOUS),
@@ -600,7 +626,7 @@ class Fence(CaseKind):
     takes = ("title", "gravity", "panel.net", "panel.placement", "panel.selvedge",
              "panel.hex_node_radius", "panel.hex_node_mass", "panel.square_node_radius",
              "panel.rope_mass", "materials.*", "contact.kn", "contact.ks", "contact.mu",
-             "damping.*", "fence.*", "output.frames", "output.budget_tolerance")
+             "damping.*", "fence.*", "output.frames", "output.budget_tolerance", "ensemble.*")
     # a penalty 100x softer than the paper's 1e9 N/m, so that the block's contact does not set
     # the step on 4 g hex nodes: a wire's breaking force (~3 kN) overlaps it by ~0.3 mm against
     # node radii of 5 mm (doc/fence.md); the physical model of the impacts (doc/impact.md)
@@ -614,6 +640,17 @@ class Fence(CaseKind):
                  "supports: its anchors and posts; it settles for fence.settle_time)")
     finished_file = "block.csv"
     width = 2
+
+    @classmethod
+    def check(cls, case, fail):
+        super().check(case, fail)
+        along, up = case["fence.impact_point"]
+        for value, half, where in ((along, case["fence.spacing"] / 2, "along the fence"),
+                                   (up, case["fence.height"] / 2, "up the net")):
+            if abs(value) >= half:
+                fail("fence.impact_point", f"{case['fence.impact_point']}: {abs(value):g} m "
+                                           f"{where} leaves the middle module ({half:g} m each "
+                                           "side: fence.spacing / 2, fence.height / 2)")
 
     def verdict(self, facts):
         touched = facts.get("braking_distance")
@@ -653,7 +690,8 @@ class Fence(CaseKind):
         facts.update(fence=setup.meta["fence"], fence_mass=setup.fence_mass,
                      atoms=int(setup.meta["counts"]["atoms"]), bending_source=source,
                      block=dict(mass=setup.mass, side=setup.side, speed=setup.speed,
-                                quat=list(setup.quat), energy=setup.energy),
+                                quat=list(setup.quat), energy=setup.energy,
+                                point=list(c["fence.impact_point"]), aim=list(setup.aim)),
                      gravity=setup.g, damping=c["damping.local"], bond_damping=c["damping.bond"],
                      dissipation=dissipation.model(c),
                      dt=setup.dt, dt_stable_bonds=setup.dt_bonds,

@@ -225,7 +225,8 @@ class Impact(CaseKind):
     keys = KEYS
     takes = ("title", "gravity", "panel.*", "supports.*", "preload.mode", "preload.settle_time",
              "materials.*", "contact.*", "damping.*", "impact.*", "output.row_time",
-             "output.dump_rows", "output.frames", "output.zones.*", "output.budget_tolerance")
+             "output.dump_rows", "output.frames", "output.zones.*", "output.budget_tolerance",
+             "ensemble.*")
     # the physical model (doc/impact.md, "Dissipation"): no damping of absolute velocity during
     # the impact; the bonds' structural damping, friction, plasticity and ruptures take the energy
     defaults = {"preload.mode": "settle", "damping.local": 0.0, "damping.bond": dissipation.STRUCTURAL_ZETA}

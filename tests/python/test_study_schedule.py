@@ -25,6 +25,7 @@ class FakeCase:
         self.values = {"kind": kind, "panel.net": net, "title": name}
         self.impacts, self.zones = [{}] * units, []
         self.width_, self.units_ = width, units
+        self.member_of = ""          # not a member of an ensemble (runner/ensemble.py)
 
     def __getitem__(self, key):
         return self.values[key]

@@ -196,20 +196,39 @@ def _liggghts_in(folder):
     return pids
 
 
+def _assert_redone(out, case):
+    """The next run into ``out`` runs the unfinished case again, to its end."""
+    p = driver("run", "impact_compound", "--quick", "--out", str(out))
+    assert p.returncode == 0, p.stderr[-2000:]
+    assert "complete, skipped" not in p.stdout
+    assert json.loads((case / "case.json").read_text())["status"] == "ok"
+
+
+def _start_quick_impact(cwd, out):
+    """./wirenet run impact_compound --quick into ``out``, returned once its LIGGGHTS runs:
+    (the driver's process, the case folder)."""
+    env = dict(os.environ, WIRENET_BUILD=str(lmp.BUILD), WIRENET_SETUP="skip")
+    proc = subprocess.Popen([str(DRIVER), "run", "impact_compound", "--quick", "--out", str(out)],
+                            cwd=cwd, env=env, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    case = out / "impact_compound"
+    deadline = time.time() + 300
+    while time.time() < deadline and not _liggghts_in(case):
+        if proc.poll() is not None:
+            _stop(proc)
+            raise AssertionError(proc.communicate())
+        time.sleep(0.2)
+    if not _liggghts_in(case):
+        _stop(proc)
+        raise AssertionError("LIGGGHTS never started")
+    return proc, case
+
+
 @pytest.mark.parametrize("sig, code", [(signal.SIGTERM, 143), (signal.SIGINT, 130)])
 def test_interrupt_stops_liggghts_and_the_case_is_redone(tmp_path, sig, code):
     out = tmp_path / "int"
-    env = dict(os.environ, WIRENET_BUILD=str(lmp.BUILD), WIRENET_SETUP="skip")
-    proc = subprocess.Popen([str(DRIVER), "run", "impact_compound", "--quick", "--out", str(out)],
-                            cwd=tmp_path, env=env, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
+    proc, case = _start_quick_impact(tmp_path, out)
     try:
-        case = out / "impact_compound"
-        deadline = time.time() + 300
-        while time.time() < deadline and not _liggghts_in(case):
-            assert proc.poll() is None, proc.communicate()
-            time.sleep(0.2)
-        assert _liggghts_in(case), "LIGGGHTS never started"
         time.sleep(1.0)
         proc.send_signal(sig)
         stdout, stderr = proc.communicate(timeout=60)
@@ -226,10 +245,7 @@ def test_interrupt_stops_liggghts_and_the_case_is_redone(tmp_path, sig, code):
         meta = json.loads((case / "case.json").read_text())
         assert meta["status"] == "interrupted"
         if sig == signal.SIGTERM:   # the next run redoes the case (once is enough)
-            p = driver("run", "impact_compound", "--quick", "--out", str(out))
-            assert p.returncode == 0, p.stderr[-2000:]
-            assert "complete, skipped" not in p.stdout
-            assert json.loads((case / "case.json").read_text())["status"] == "ok"
+            _assert_redone(out, case)
     finally:
         _stop(proc)
 
@@ -239,17 +255,8 @@ def test_a_killed_runner_takes_its_liggghts_with_it_and_the_case_resumes(tmp_pat
     must stop when it dies (the parent-death signal of runner/engine.py), and the next run into
     the same folder (the lock died with the runner) redoes the case."""
     out = tmp_path / "killed"
-    env = dict(os.environ, WIRENET_BUILD=str(lmp.BUILD), WIRENET_SETUP="skip")
-    proc = subprocess.Popen([str(DRIVER), "run", "impact_compound", "--quick", "--out", str(out)],
-                            cwd=tmp_path, env=env, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
+    proc, case = _start_quick_impact(tmp_path, out)
     try:
-        case = out / "impact_compound"
-        deadline = time.time() + 300
-        while time.time() < deadline and not _liggghts_in(case):
-            assert proc.poll() is None, proc.communicate()
-            time.sleep(0.2)
-        assert _liggghts_in(case), "LIGGGHTS never started"
         runners = [pid for pid, cmd in _processes_naming(str(out)) if "-m runner" in cmd]
         assert len(runners) == 1, _processes_naming(str(out))
         os.kill(runners[0], signal.SIGKILL)
@@ -258,10 +265,7 @@ def test_a_killed_runner_takes_its_liggghts_with_it_and_the_case_resumes(tmp_pat
         while _liggghts_in(case) and time.time() < deadline:
             time.sleep(0.2)
         assert not _liggghts_in(case), "LIGGGHTS processes outlived the killed runner"
-        p = driver("run", "impact_compound", "--quick", "--out", str(out))
-        assert p.returncode == 0, p.stderr[-2000:]
-        assert "complete, skipped" not in p.stdout
-        assert json.loads((case / "case.json").read_text())["status"] == "ok"
+        _assert_redone(out, case)
     finally:
         _stop(proc)
 

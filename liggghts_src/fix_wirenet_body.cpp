@@ -82,36 +82,70 @@ Vector3d locally_damped(const Vector3d &f, const Vector3d &u, double alpha)
 void to_array(const Quaterniond &q, double *a) { a[0] = q.w(); a[1] = q.x(); a[2] = q.y(); a[3] = q.z(); }
 Quaterniond from_array(const double *a) { return Quaterniond(a[0], a[1], a[2], a[3]).normalized(); }
 
-// Wavefront OBJ subset: 'v x y z' and 'f i j k ...' (1-based; 'i/t/n' forms allowed).
+// An OBJ index: digits only, 1 to INT_MAX ('2.7', '-1', '4294967300' are not)
+bool obj_index(const std::string &w, long &i)
+{
+  if (w.empty() || w.find_first_not_of("0123456789") != std::string::npos) return false;
+  errno = 0;
+  i = strtol(w.c_str(), NULL, 10);
+  return errno == 0 && i >= 1 && i <= std::numeric_limits<int>::max();
+}
+
+// Wavefront OBJ subset: 'v x y z' and 'f i j k ...' (1-based; 'i/t/n' forms allowed). A word
+// that is not what it must be is named with the file and line: each vertex 3 finite numbers,
+// each face index a whole number naming a vertex of the file.
 WireNet::PolyhedronShape read_obj(const std::string &path)
 {
   std::ifstream in(path.c_str());
   if (!in) throw std::invalid_argument("polyhedron: cannot open '" + path + "'");
   std::vector<Vector3d> v;
   std::vector<std::vector<int> > f;
+  std::vector<int> face_line;
   std::string line;
   int lineno = 0;
   while (std::getline(in, line)) {
     lineno++;
+    const std::string at = "polyhedron: '" + path + "' line " + std::to_string(lineno) + ": ";
     std::istringstream w(line);
     std::string tag;
     if (!(w >> tag) || tag[0] == '#') continue;
     if (tag == "v") {
+      std::vector<std::string> words;
+      for (std::string x; w >> x;) words.push_back(x);
+      if (words.size() != 3) throw std::invalid_argument(at + "a vertex is 'v X Y Z'");
       Vector3d p;
-      if (!(w >> p[0] >> p[1] >> p[2]) || !p.allFinite())
-        throw std::invalid_argument("polyhedron: '" + path + "' line " + std::to_string(lineno) + ": bad vertex");
+      for (int d = 0; d < 3; d++)
+        if (!is_number(words[d].c_str()) || !std::isfinite(p[d] = strtod(words[d].c_str(), NULL)))
+          throw std::invalid_argument(at + "vertex coordinate '" + words[d] + "' is not a finite number");
       v.push_back(p);
     } else if (tag == "f") {
       std::vector<int> loop;
       std::string item;
       while (w >> item) {
-        const int i = atoi(item.substr(0, item.find('/')).c_str());
-        if (i < 1) throw std::invalid_argument("polyhedron: '" + path + "' line " + std::to_string(lineno) + ": bad face index '" + item + "'");
-        loop.push_back(i - 1);
+        // the vertex index, and texture and normal indices if given (i/t/n, i//n)
+        std::vector<std::string> parts(1);
+        for (char c : item) {
+          if (c == '/') parts.push_back("");
+          else parts.back().push_back(c);
+        }
+        long i = 0, other = 0;
+        bool ok = parts.size() <= 3 && obj_index(parts[0], i);
+        for (size_t k = 1; k < parts.size(); k++) ok = ok && (parts[k].empty() || obj_index(parts[k], other));
+        if (!ok)
+          throw std::invalid_argument(at + "face index '" + item + "' is not a whole number from 1 to " +
+                                      std::to_string(std::numeric_limits<int>::max()));
+        loop.push_back((int)(i - 1));
       }
       f.push_back(loop);
+      face_line.push_back(lineno);
     }
   }
+  for (size_t k = 0; k < f.size(); k++)
+    for (int i : f[k])
+      if (i >= (int)v.size())
+        throw std::invalid_argument("polyhedron: '" + path + "' line " + std::to_string(face_line[k]) + ": face index " +
+                                    std::to_string(i + 1) + " names a vertex the file does not have (it has " +
+                                    std::to_string(v.size()) + ")");
   return WireNet::PolyhedronShape(v, f, "polyhedron");
 }
 

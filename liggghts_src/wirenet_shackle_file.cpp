@@ -4,6 +4,7 @@
 
 #include <cerrno>
 #include <cstdlib>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -18,14 +19,16 @@ namespace {
   throw std::invalid_argument("line " + std::to_string(line) + ": " + msg);
 }
 
-// a whole number >= lo (atom IDs: >= 1; counts: >= 0)
+// a whole number >= lo (atom IDs: >= 1; counts: >= 0): digits only (strtoll also took '+5' and
+// ' 5'), and no larger than a LIGGGHTS atom ID can be (a larger one was later reported as atom -1)
 long long whole(const std::string &w, int line, const std::string &what, long long lo)
 {
-  char *end = NULL;
+  const long long hi = std::numeric_limits<int>::max();
   errno = 0;
-  const long long v = strtoll(w.c_str(), &end, 10);
-  if (errno || end == w.c_str() || *end != '\0' || v < lo)
+  const long long v = strtoll(w.c_str(), NULL, 10);
+  if (w.empty() || w.find_first_not_of("0123456789") != std::string::npos || v < lo)
     fail(line, what + " must be a whole number >= " + std::to_string(lo) + " (got '" + w + "')");
+  if (errno || v > hi) fail(line, what + " " + w + " is too large (at most " + std::to_string(hi) + ")");
   return v;
 }
 

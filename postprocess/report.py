@@ -87,13 +87,14 @@ def _fence_rows(fences):
 
 
 def fence_comparison(summaries):
-    """The paper's post-load claim at fence scale: compound vs square net, same block energy;
-    None without such a pair."""
+    """The paper's post-load claim at fence scale: compound vs square net, same block energy and
+    the same dissipation model (the claims' rule, postprocess/claims.py); None without such a pair."""
     fences = {n: s["fence"] for n, s in summaries.items() if s.get("fence") and s["status"] == "ok"}
     for name, c in fences.items():
         for other, q in fences.items():
             if c["net"] == "compound" and q["net"] == "square" and \
-                    c["block_energy"] == q["block_energy"] and c["post_base_peak"] and \
+                    c["block_energy"] == q["block_energy"] and \
+                    c.get("dissipation") == q.get("dissipation") and c["post_base_peak"] and \
                     q["post_base_peak"] and c["anchor_peak"] and q["anchor_peak"]:
                 base = c["post_base_peak"] / q["post_base_peak"]
                 anchor = c["anchor_peak"] / q["anchor_peak"]

@@ -180,7 +180,9 @@ def run(deck, workdir, variables=None, np=1, total_steps=None, label="", dt=None
     without ETA); total_steps and the ETA count from that line on; marker_seen (a
     threading.Event) is set once the progress scan has seen that line. then = (name, steps): a
     phase that may follow the counted steps for at most that many steps (a rest that ends when
-    the motion has died down), reported as such."""
+    the motion has died down), reported as such; (name, steps, marker): the phase may start
+    earlier, at the log line holding that marker (an impact that ends before its longest
+    duration), and the counted steps are then given as at most."""
     workdir = Path(workdir).resolve()
     workdir.mkdir(parents=True, exist_ok=True)
     deck = Path(deck).resolve()
@@ -286,20 +288,30 @@ class Progress:
         self.phase_start = None if phase_marker else time.time()
         self.first_step = None if phase_marker else 0   # counted step seen at phase_start
         self.last_step = None
+        self.early = None     # the step at which the `then` phase started before total
 
-    def _scan(self):
-        """(latest thermo step, whether the marker has been seen) of the log."""
-        text = self.log.read_text(errors="replace")
-        marked = self.marker is None or self.marker in text
-        if self.marker is not None and marked:
-            text = text[text.index(self.marker):]
+    @staticmethod
+    def _last_step(lines):
         step = None
-        for line in text.splitlines()[-50:]:
+        for line in lines:
             words = line.split()
             # thermo rows: all numbers, the first an integer step
             if words and words[0].isdigit() and all(_NUMBER.match(w) for w in words):
                 step = int(words[0])
-        return step, marked
+        return step
+
+    def _scan(self):
+        """(latest thermo step, whether the marker has been seen) of the log; sets self.early
+        to the step at which the `then` phase started early (its marker's line), if it did."""
+        text = self.log.read_text(errors="replace")
+        marked = self.marker is None or self.marker in text
+        if self.marker is not None and marked:
+            text = text[text.index(self.marker):]
+        early = self.then[2] if self.then and len(self.then) > 2 else None
+        if early and self.early is None and early in text:
+            before = text[:text.index(early)].splitlines()
+            self.early = self._last_step(before) or 0
+        return self._last_step(text.splitlines()[-50:]), marked
 
     def report(self):
         try:
@@ -317,14 +329,16 @@ class Progress:
             print(f"    {self.label}: preparing (step {step})", file=sys.stderr, flush=True)
             return
         sim = f", t = {step * self.dt:.4g} s" if self.dt else ""
-        if self.then and step > self.total:
-            name, steps = self.then
-            print(f"    {self.label}: {name}: step {step - self.total}/{steps} at most{sim}",
+        if self.then and (step > self.total or self.early is not None):
+            name, steps = self.then[:2]
+            start = self.total if self.early is None else self.early
+            print(f"    {self.label}: {name}: step {max(step - start, 0)}/{steps} at most{sim}",
                   file=sys.stderr, flush=True)
             return
         elapsed, done = time.time() - self.phase_start, step - self.first_step
         frac = min(step / self.total, 1.0)
         eta = f"{elapsed * max(self.total - step, 0) / done:.0f} s" \
             if done > 0 and elapsed > 0 else "n/a"
-        print(f"    {self.label}: step {step}/{self.total} ({100 * frac:.0f} %{sim}), ETA {eta}",
-              file=sys.stderr, flush=True)
+        most = " at most" if self.then and len(self.then) > 2 else ""
+        print(f"    {self.label}: step {step}/{self.total}{most} ({100 * frac:.0f} %{sim}), "
+              f"ETA {eta}{most}", file=sys.stderr, flush=True)

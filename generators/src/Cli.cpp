@@ -418,7 +418,10 @@ void addFenceOptions(Options& o) {
     addHexOptions(o, "hex-");
     addSquareOptions(o, "square-");
     o.addInt("ties", d.panel.tieEvery, 0, "compound: tie every k-th interior crossing to the nearest hex node; 0 = none");
-    o.addNumber("shackle-gap", d.shackleGap, "m", "gap between a net edge and its support rope or post (panel = spacing - 2 gap by height - 2 gap)");
+    o.addNumber("shackle-gap", d.shackleGap, "m", "gap between the net's top and bottom edges and their support ropes (panel height = height - 2 gap)");
+    o.addOptionalNumber("post-gap", "m", "gap between the net's side edges and their posts' axes (panel width = spacing - 2 post gap); "
+                        "by default the sides hang the shackle gap from the post's face as the top and bottom edges from the ropes' axes",
+                        Bound::Positive, "shackle-gap + post-node-diameter/2 rounded up to the cm: " + fmt(d.defaultPostGap()));
     o.addString("side-shackles", d.sideShackles ? "post" : "none", "module sides: post (shackled to the neighbouring post) or none (free)");
     o.addString("head-guides", d.clampHeads ? "clamp" : "slide", "top rope at the post heads: clamp (fixed to the head) or slide (through a guide, a shackle; the posts sway)");
     o.addNumber("rope-segment", d.ropeSegment, "m", "target bond length of the support and upslope ropes");
@@ -438,7 +441,9 @@ void addFenceOptions(Options& o) {
     o.addNumber("post-iy", d.postIy, "m4", "post second moment Iy about the strong axis, which lies along the fence (HEA 200)");
     o.addNumber("post-iz", d.postIz, "m4", "post second moment Iz about the weak axis, which lies along y (HEA 200)");
     o.addNumber("post-j", d.postJ, "m4", "post torsion constant It (HEA 200)");
-    o.addNumber("post-node-diameter", d.postNodeDiameter, "m", "post node sphere diameter (numerical)");
+    o.addNumber("post-node-diameter", d.postNodeDiameter, "m", "post node sphere diameter: the profile's width, HEA 200's "
+                "flange width b = 200 mm (EN 10365:2017), where the net touches the post; its rotary inertia 0.4 m r^2 is "
+                "within a factor of two of the section's (Iy/A) m; give another profile's width with its section");
     o.addNumber("density", d.density, "kg/m3", "steel density of ropes and posts");
     o.addNumber("margin", 1.0, "m", "box margin beyond the nodes in x, +y and z");
     o.addNumber("ylo", -10.0, "m", "box lower y bound (the net deflects towards -y)", Bound::Any);
@@ -459,6 +464,7 @@ FenceParams fenceParams(const Options& o) {
     if (p.net != NetKind::Hex) p.panel.square = squareParams(o, "square-");
     p.panel.tieEvery = int(o.integer("ties"));
     p.shackleGap = o.num("shackle-gap");
+    if (o.isSet("post-gap")) p.postGap = o.num("post-gap");
     p.sideShackles = o.choice("side-shackles", {"post", "none"}) == "post";
     p.clampHeads = o.choice("head-guides", {"slide", "clamp"}) == "clamp";
     p.ropeSegment = o.num("rope-segment");

@@ -58,6 +58,11 @@ double FenceParams::upslopeLength() const {
 long FenceParams::upslopeBonds() const { return long(bondsFor(upslopeLength(), ropeSegment)); }
 double FenceParams::ropeMass(double d) const { return fill * density * M_PI * 0.25 * d * d; }
 
+double FenceParams::defaultPostGap() const {
+    // in cm, less a round-off's worth so that an exact number of cm stays that number
+    return std::ceil(100.0 * (shackleGap + 0.5 * postNodeDiameter) - 1e-9) / 100.0;
+}
+
 CompoundParams FenceParams::module() const {
     CompoundParams cp = panel;
     cp.hex.width = cp.square.width = panelWidth();
@@ -69,11 +74,16 @@ CompoundParams FenceParams::module() const {
 }
 
 void FenceParams::validateLayout(const ValueText& text) const {
-    if (!(shackleGap < 0.5 * std::min(spacing, height)))
-        throw UsageError("--shackle-gap must be < --spacing/2 and --height/2 (got " +
-                         text("shackle-gap", shackleGap) + ")");
+    // the post gap as given, or the default and what it comes from
+    const std::string postGapText = postGap ? text("post-gap", *postGap)
+                                            : fmt(sideGap()) + ", its default from --shackle-gap and "
+                                              "--post-node-diameter";
+    if (!(shackleGap < 0.5 * height))
+        throw UsageError("--shackle-gap must be < --height/2 (got " + text("shackle-gap", shackleGap) + ")");
+    if (!(sideGap() < 0.5 * spacing))
+        throw UsageError("--post-gap must be < --spacing/2 (got " + postGapText + ")");
     const CompoundParams m = module();
-    const SideNames sides{"--spacing - 2 x --shackle-gap", "(--height - 2 x --shackle-gap)"};
+    const SideNames sides{"--spacing - 2 x --post-gap", "(--height - 2 x --shackle-gap)"};
     if (net != NetKind::Square) m.hex.validate(text, sides);
     if (net != NetKind::Hex) m.square.validate(text, sides);
     if (panel.tieEvery > 0 && net != NetKind::Compound)
@@ -83,15 +93,19 @@ void FenceParams::validateLayout(const ValueText& text) const {
         throw UsageError("--upslope-height must be < --height (got " + fmt(upslopeHeight) + " >= " + fmt(height) + ")");
     if (!(postTilt >= 0.0 && postTilt < 45.0))
         throw UsageError("--post-tilt must be >= 0 and < 45 degrees (got " + text("post-tilt", postTilt) + ")");
-    // No two spheres may overlap at the start: a net edge node next to its rope or post, a rope
-    // node next to the post head (base) it passes at half a bond.
+    // No two spheres may overlap at the start: a net edge node next to its rope (top and bottom
+    // edges) or post (side edges), a rope node next to the post head (base) it passes at half a
+    // bond (validateRopes()). A net corner is farther from the post head (base) than either gap.
     const double rNet = std::max(net != NetKind::Square ? 0.5 * m.hex.nodeDiameter : 0.0,
                                  net != NetKind::Hex ? 0.5 * m.square.nodeDiameter : 0.0);
-    const double rPart = 0.5 * std::max(supportDiameter, postNodeDiameter);
-    if (!(shackleGap > rNet + rPart))
-        throw UsageError("--shackle-gap must be > " + fmt(rNet + rPart) +
-                         ", a net node's radius plus a rope or post node's radius (got " +
+    const double rRope = 0.5 * supportDiameter, rPost = 0.5 * postNodeDiameter;
+    if (!(shackleGap > rNet + rRope))
+        throw UsageError("--shackle-gap must be > " + fmt(rNet + rRope) +
+                         ", a net node's radius plus a support rope node's radius (got " +
                          text("shackle-gap", shackleGap) + ")");
+    if (!(sideGap() > rNet + rPost))
+        throw UsageError("--post-gap must be > " + fmt(rNet + rPost) +
+                         ", a net node's radius plus a post node's radius (got " + postGapText + ")");
 }
 
 void FenceParams::validateRopes(const ValueText& text) const {

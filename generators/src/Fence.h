@@ -9,6 +9,7 @@
 // the plane y = 0 of the posts; a panel's own (x, y, z) becomes (x_c + x, z, H/2 + y), so its
 // loaded side (+z) faces upslope (+y).
 #pragma once
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,12 @@ bool parseNetKind(const std::string& text, NetKind& k);
 // A = 53.83 cm2, Iy = 3692 cm4 (strong axis, parallel to the flanges), Iz = 1336 cm4,
 // It = 20.98 cm4, 42.3 kg/m.
 constexpr double kHeaArea = 53.83e-4, kHeaIy = 3692e-8, kHeaIz = 1336e-8, kHeaJ = 20.98e-8;
+// Its flange width b = 200 mm (EN 10365:2017; h = 190 mm): the post nodes' sphere diameter. The
+// net meets the post at its flange, b/2 from the axis, and the sphere's rotary inertia 0.4 m r^2
+// = 4.0e-3 m2 x m is within a factor of two of the section's about its strong axis, (Iy / A) m =
+// 6.9e-3 m2 x m (a 50 mm sphere had 2.5e-4 m2 x m: the posts' rotation set the fence's stable
+// time step).
+constexpr double kHeaWidth = 0.200;
 // Steel, EN 1993-1-1 3.2.6: E = 210 GPa, nu = 0.3 (recorded for the deck's beam section line).
 constexpr double kSteelE = 2.1e11, kSteelNu = 0.3;
 
@@ -50,7 +57,9 @@ struct FenceParams {
     double height = 5.0;             // post height = nominal height, m
     NetKind net = NetKind::Compound;
     CompoundParams panel;            // hex / square parameters and ties; module() sizes them
-    double shackleGap = 0.05;        // net edge to its rope or post, m
+    double shackleGap = 0.05;        // net's top and bottom edges to their support ropes, m
+    // Net's side edges to their posts, m; unset: defaultPostGap().
+    std::optional<double> postGap;
     bool sideShackles = true;        // module sides shackled to the posts
     bool clampHeads = true;          // top rope clamped at the post heads (false: it slides, the posts sway)
     double ropeSegment = 0.5;        // target rope bond length, m
@@ -69,9 +78,19 @@ struct FenceParams {
     // at the ground: (y, z) -> (y cos t - z sin t, y sin t + z cos t); the ground line stays.
     Eigen::Vector3d lean(const Eigen::Vector3d& x) const;
     double postArea = kHeaArea, postIy = kHeaIy, postIz = kHeaIz, postJ = kHeaJ;
-    double postNodeDiameter = 0.05;  // m (numerical contact sphere)
+    double postNodeDiameter = kHeaWidth;  // m: the profile's width (contact sphere)
 
-    double panelWidth() const { return spacing - 2 * shackleGap; }
+    // The post gap without --post-gap: the side edges hang the shackle gap from the post's face
+    // (the flange, postNodeDiameter/2 from its axis) as the top and bottom edges hang it from
+    // their ropes' axes, shackleGap + postNodeDiameter/2 rounded up to the cm, 0.15 m for the
+    // defaults. Its nodes clear the post spheres by shackleGap - r_net, more than the top and
+    // bottom nodes clear the rope spheres (shackleGap - r_net - r_rope). (The same clearance
+    // alone, 0.139 -> 0.14 m, makes the panel 9.72 m wide, whose hexagonal mesh ends in 15 mm
+    // bonds at the sides: the default fence's stable step fell from 9.96e-6 to 7.04e-6 s;
+    // 9.70 m: 1.15e-5 s. doc/wirenet-gen.md, "fence".)
+    double defaultPostGap() const;
+    double sideGap() const { return postGap ? *postGap : defaultPostGap(); }
+    double panelWidth() const { return spacing - 2 * sideGap(); }
     double panelHeight() const { return height - 2 * shackleGap; }
     // One module's panel: `panel` sized panelWidth() x panelHeight(), in the plane z = 0, the
     // hex layer molecule 1 and the square layer molecule 2.
@@ -91,8 +110,8 @@ struct FenceParams {
 
     // Checks of the options against each other (each number's own range is the option
     // parser's); they throw UsageError naming the option and its value as `text` shows it. Two
-    // steps, for the command line's size guard runs between them: the layout (shackle gap, the
-    // module's panel, ties, fill, upslope height, tilt, sphere clearances), which
+    // steps, for the command line's size guard runs between them: the layout (shackle and post
+    // gaps, the module's panel, ties, fill, upslope height, tilt, sphere clearances), which
     // Fence::estimateNodes() needs sane, then the ropes' bonds and brakes, whose integer bond
     // counts only exist once the guard has bounded them. validate() runs both.
     void validateLayout(const ValueText& text = formatted) const;

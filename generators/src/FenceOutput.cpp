@@ -33,7 +33,8 @@ Json layoutJson(const FenceParams& p, const FenceModel& f) {
     Json postX = Json::array();
     for (int i = 0; i <= p.modules; ++i) postX.push(p.postX(i));
     j.set("post_x", postX);
-    j.set("shackle_gap", p.shackleGap).set("panel_nodes", f.panelNodes).set("panel_bonds", f.panelBonds);
+    j.set("shackle_gap", p.shackleGap).set("post_gap", p.sideGap()).set("panel_nodes", f.panelNodes)
+        .set("panel_bonds", f.panelBonds);
     j.set("anchor_distance", p.anchorDistance).set("bottom_anchor_distance", p.bottomAnchorDistance);
     j.set("upslope_distance", p.upslopeDistance).set("upslope_height", p.upslopeHeight).set("post_tilt_deg", p.postTilt);
     j.set("coordinates", "x along the fence (centred on the fence), y upslope: the block comes from +y and "
@@ -80,11 +81,12 @@ Json shacklesJson(const FenceParams& p, const FenceModel& f, const std::string& 
     }
     Json j = Json::object();
     j.set("file", file).set("count", long(f.shackles.size())).set("ropes", ropes);
-    j.set("max_distance", f.shackleMaxDistance).set("gap", p.shackleGap).set("side", p.sideShackles ? "post" : "none");
+    j.set("max_distance", f.shackleMaxDistance).set("gap", p.shackleGap).set("post_gap", p.sideGap())
+        .set("side", p.sideShackles ? "post" : "none");
     j.set("note", "net edge nodes on the top and bottom edge (corners included) hang on the top and "
-          "bottom support rope, the module sides on the neighbouring post (side post), the post heads "
-          "on the top rope (sliding guide) and the post bases on the bottom rope; a shackle is never "
-          "an atom of its own rope");
+          "bottom support rope, gap from it, the module sides on the neighbouring post (side post), "
+          "post_gap from its axis, the post heads on the top rope (sliding guide) and the post bases "
+          "on the bottom rope; a shackle is never an atom of its own rope");
     return j;
 }
 
@@ -128,6 +130,10 @@ Json postsJson(const FenceParams& p) {
              "bending under a load along y is resisted by E Iy; deck: bond_coeff T beam section A Iy Iz J orient 1 0 0 E .. nu ..")
         .set("E", kSteelE).set("nu", kSteelNu).set("density", p.density).set("mass_per_metre", p.density * p.postArea)
         .set("node_diameter", p.postNodeDiameter).set("base", "hinged: hold the translation of post_bases only");
+    if (p.postNodeDiameter == kHeaWidth)
+        j.set("node_diameter_note", "the HEA 200's width, its flange width b = 200 mm (EN 10365:2017): the net "
+              "touches the post at its flange, b/2 from the axis, and the sphere's rotary inertia 0.4 m r^2 is "
+              "within a factor of two of the section's (Iy/A) m");
     return j;
 }
 

@@ -106,7 +106,13 @@ bad "--out must name the STL file, not its .json (got s.json)" shape cone --out 
 # fence: its own options, the panel options it reuses, and a third output file.
 bad "--net must be hex, square or compound (got chain)" fence --net chain --out p
 bad "--modules must be >= 1 (got 0)"         fence --modules 0 --out p
-bad "--axis-distance must be <= --spacing - 2 x --shackle-gap (got 20 > 9.9)" fence --axis-distance 20 --out p
+bad "--axis-distance must be <= --spacing - 2 x --post-gap (got 20 > 9.7)" fence --axis-distance 20 --out p
+bad "--cell must be <= (--height - 2 x --shackle-gap) (got 6 > 4.9)" fence --net square --cell 6 --out p
+bad "--shackle-gap must be > 0.0164, a net node's radius plus a support rope node's radius (got 0.010)" fence --shackle-gap 0.010 --out p
+bad "--post-gap must be > 0.1054, a net node's radius plus a post node's radius (got 0.10)" fence --post-gap 0.10 --out p
+bad "--post-gap must be < --spacing/2 (got 2.0)" fence --spacing 4 --post-gap 2.0 --out p
+bad "--post-gap must be > 0 (got 0)"         fence --post-gap 0 --out p
+bad "--post-gap must be < --spacing/2 (got 5.05, its default from" fence --post-node-diameter 10 --out p
 bad "--brakes must be <= 5"                  fence --brakes 6 --out p
 bad "more than --max-nodes 100"              fence --max-nodes 100 --out p
 PRE='mkdir p.shackles' bad "--out cannot write p.shackles (is a directory)" fence --out p

@@ -808,14 +808,42 @@ static void testFenceValidation() {
     CHECK_MESSAGE(fenceError([](FenceParams& p) { p.postTilt = 45; }), "--post-tilt must be >= 0 and < 45 degrees (got 45)");
     CHECK_MESSAGE(fenceError([](FenceParams& p) { p.fill = 1.5; }), "--rope-fill must be <= 1 (got 1.5)");
     CHECK_MESSAGE(fenceError([](FenceParams& p) { p.shackleGap = 3; }),
-                  "--shackle-gap must be < --spacing/2 and --height/2 (got 3)");
-    CHECK_MESSAGE_STARTS(fenceError([](FenceParams& p) { p.shackleGap = 0.01; }), "--shackle-gap must be > 0.0304,");
+                  "--shackle-gap must be < --height/2 (got 3)");
+    // The top and bottom edges clear the support ropes' spheres, the side edges the posts'.
+    CHECK_MESSAGE(fenceError([](FenceParams& p) { p.shackleGap = 0.01; }),
+                  "--shackle-gap must be > 0.0164, a net node's radius plus a support rope node's radius (got 0.01)");
+    CHECK_MESSAGE(fenceError([](FenceParams& p) { p.postGap = 0.1; }),
+                  "--post-gap must be > 0.1054, a net node's radius plus a post node's radius (got 0.1)");
+    CHECK_MESSAGE(fenceError([](FenceParams& p) { p.postGap = 5; }), "--post-gap must be < --spacing/2 (got 5)");
+    CHECK_MESSAGE(fenceError([](FenceParams& p) { p.postGap = 0.11; }), "");
+    // (its default, from the other options: what they imply is named)
+    CHECK_MESSAGE(fenceError([](FenceParams& p) { p.postNodeDiameter = 10; }),
+                  "--post-gap must be < --spacing/2 (got 5.05, its default from --shackle-gap and --post-node-diameter)");
+    // By default the side edges hang the shackle gap from the post's face (its sphere's
+    // surface), rounded up to the cm: 0.05 + 0.2/2 = 0.15 m (in doubles 0.15000000000000002,
+    // which must not become 0.16).
+    {
+        FenceParams d;
+        CHECK(d.postNodeDiameter == 0.2 && d.sideGap() == 0.15 && d.panelWidth() == 10 - 2 * 0.15 &&
+                  d.panelHeight() == 5 - 2 * 0.05,
+              "defaults: post nodes %g, post gap %g, panel %g x %g", d.postNodeDiameter, d.sideGap(), d.panelWidth(),
+              d.panelHeight());
+        d.shackleGap = 0.08;
+        d.postNodeDiameter = 0.19;
+        CHECK(d.sideGap() == 0.18, "0.08 + 0.095 -> 0.18, got %g", d.sideGap());
+        d.postNodeDiameter = 0.02;
+        CHECK(d.sideGap() == 0.09, "0.08 + 0.01 is 0.09, got %g", d.sideGap());
+        d.supportDiameter = 0.05;  // the post gap does not depend on the ropes
+        CHECK(d.sideGap() == 0.09, "got %g", d.sideGap());
+        d.postGap = 0.3;
+        CHECK(d.sideGap() == 0.3 && d.panelWidth() == 10 - 0.6, "given: %g", d.sideGap());
+    }
     CHECK_MESSAGE(fenceError([](FenceParams& p) { p.upslopeHeight = 5; }), "--upslope-height must be < --height (got 5 >= 5)");
     CHECK_MESSAGE(fenceError([](FenceParams& p) { p.net = NetKind::Hex; p.panel.tieEvery = 2; }),
                   "--ties needs --net compound (got --net hex)");
     // The module's panel is checked at the module's size, named after the options it comes from.
     CHECK_MESSAGE(fenceError([](FenceParams& p) { p.panel.hex.axisDistance = 20; }),
-                  "--axis-distance must be <= --spacing - 2 x --shackle-gap (got 20 > 9.9)");
+                  "--axis-distance must be <= --spacing - 2 x --post-gap (got 20 > 9.7)");
     CHECK_MESSAGE(fenceError([](FenceParams& p) { p.net = NetKind::Square; p.panel.square.cell = 6; }),
                   "--cell must be <= (--height - 2 x --shackle-gap) (got 6 > 4.9)");
     CHECK_MESSAGE(fenceError([](FenceParams& p) { p.net = NetKind::Square; p.panel.hex.axisDistance = 20; }), "");

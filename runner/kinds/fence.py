@@ -61,6 +61,7 @@ REST_WINDOW = 0.1        # s
 DT_SAFETY = 0.5          # of the stable step of bonds and the block's contact (runner/timestep.py)
 GAP = 0.005              # block to the foremost net node at release [m]
 TABLE = "fence.csv"      # the deck's table: names in its header (include/fence_impact.in)
+IMPACT_ENDED = "impact: ended"   # the deck's line when the impact ends before fence.duration
 
 
 def _fence(name, type_, default, unit, doc, source, **kw):
@@ -73,7 +74,17 @@ def _part(name, type_, unit, doc, **kw):
     if type_ == "pairs":
         values = [float(v) for v in default.split()]
         default = [list(p) for p in zip(values[0::2], values[1::2])]
-    return _fence(name, type_, default, unit, doc, SOURCES[name], var=name, **kw)
+    kw.setdefault("var", name)
+    return _fence(name, type_, default, unit, doc, SOURCES[name], **kw)
+
+
+def floor_damping(restitution, kn, mass):
+    """gamma_n [1/s] of fix wirenet/body's floor (F = kn d - gamma_n M v_n) that gives a body of
+    this mass the coefficient of restitution: the damped linear oscillator's
+    zeta = -ln e / sqrt(pi^2 + ln^2 e), gamma_n = 2 zeta sqrt(kn / M)."""
+    log_e = math.log(restitution)
+    zeta = -log_e / math.sqrt(math.pi ** 2 + log_e ** 2)
+    return 2.0 * zeta * math.sqrt(kn / mass)
 
 
 KEYS = (
@@ -139,6 +150,14 @@ KEYS = (
     _part("shackle_mu", "number", "", "friction of a shackle sliding on its rope", low=0.0,
           high=2.0),
     _part("post_E", "number", "Pa", "Young's modulus of the post steel", low=1e8, high=1e12),
+    # the block on the ground (not the settling's: var None, passed by Setup.variables)
+    _part("ground_kn", "number", "N/m", "normal stiffness of the block's contact with the "
+          "ground (tangential: a tenth of it)", low=1.0, high=1e12, var=None),
+    _part("ground_mu", "number", "", "friction of the block on the ground", low=0.0, high=2.0,
+          var=None),
+    _part("ground_restitution", "number", "", "normal coefficient of restitution of the block "
+          "on the ground (a viscous normal damping of the floor contact gives it)", low=0.0,
+          low_open=True, high=1.0, var=None),
 )
 
 # The energy budget of a fence impact: each term from its own mechanism (include/fence_impact.in)
@@ -172,6 +191,10 @@ BUDGET = (
     Term("friction_ground", ("w_ground",), "dissipated by the ground's contacts with the nodes: "
          "friction and normal damping", sign=-1, less=("e_ground",),
          mechanism="friction: net on ground"),
+    Term("e_floor", ("e_floor_block",), "energy stored in the contacts of the block with the "
+         "ground", stored=True, dissipative=False),
+    Term("friction_block_ground", ("w_floor_block",), "dissipated by the block's contacts with "
+         "the ground: friction and normal damping", mechanism="friction: block on ground"),
     Term("friction", ("w_friction",), "shackle friction (fix wirenet/shackle)",
          mechanism="friction: shackles on ropes"),
     Term("shackle_damping", ("w_shackle_damping",), "shackle damping",
@@ -305,12 +328,18 @@ class Setup:
     def energy(self):
         return 0.5 * self.mass * self.speed ** 2
 
+    @property
+    def ground_z(self):
+        """The ground plane: the bottom rope's nodes (z = 0, wirenet-gen fence) lie on it."""
+        return -0.5 * self.meta["ropes"]["support"]["diameter"]
+
     def _base_variables(self):
         section = self.meta["posts"]["section"]
         ropes = self.meta["ropes"]
         v = dict(self.kind.key_variables(), data=os.path.abspath(self.data_path),
                  types=os.path.abspath(self.types_path), shackles=os.path.abspath(self.shackles),
                  support_d=repr(ropes["support"]["diameter"]),
+                 ground_z=repr(self.ground_z),
                  upslope_d=repr(ropes["upslope"]["diameter"]), post_A=repr(section["A"]),
                  post_Iy=repr(section["Iy"]), post_Iz=repr(section["Iz"]),
                  post_J=repr(section["J"]), ghost=repr(2.5 * self.meta["max_bond_length"]),
@@ -367,8 +396,18 @@ class Setup:
                  node_r=repr(self.node_r), rest_steps=self.rest_steps,
                  rest_chunk=self.every, rest_ke=repr(REST_KE * self.energy),
                  rest_viscous=repr(REST_VISCOUS),
-                 **rest_probe(self.meta, self.dt, self.every))
+                 **rest_probe(self.meta, self.dt, self.every), **self.ground_variables())
         return v
+
+    def ground_variables(self):
+        """The block lands on the ground (fix wirenet/body's floor keywords: block_floor of
+        include/block_analytic.in); tangential stiffness a tenth of the normal one, as the
+        paper's contact."""
+        c = self.kind.case
+        kn = c["fence.ground_kn"]
+        gamma = floor_damping(c["fence.ground_restitution"], kn, self.mass)
+        return {"block_floor": f"floor 0 0 {self.ground_z!r} 0 0 1 kn {kn!r} kt {kn / 10!r} "
+                               f"mu {c['fence.ground_mu']!r} gamma_n {gamma!r}"}
 
 
 # ---------------------------------------------------------------------------------------------
@@ -379,7 +418,7 @@ def read_table(workdir):
     names = {c for t in BUDGET for c in t.columns} | {
         "step", "time", "x", "y", "z", "vx", "vy", "vz", "force", "px_net", "py_net", "pz_net",
         "jx_damp", "jy_damp", "jz_damp", "anchors_x", "anchors_y", "anchors_z", "bases_x",
-        "bases_y", "bases_z", "ground_x", "ground_y", "ground_z"}
+        "bases_y", "bases_z", "ground_x", "ground_y", "ground_z", "jx_floor", "jy_floor", "jz_floor"}
     return read_deck_table(os.path.join(workdir, TABLE), sorted(names))
 
 
@@ -461,7 +500,10 @@ def momentum_balance(t, block_mass, fence_mass, g):
     # the ground pushes the nodes with minus the nodes' force on it
     j_ground = -budget.cumulative(np.column_stack([t["ground_x"], t["ground_y"], t["ground_z"]]),
                                   window)
-    gap = budget.momentum_gap(dp, j_react, j_grav, j_ground, j_damp - j_damp[0])
+    # the block's floor: its impulse on the block since the block was placed (exact sums)
+    j_floor = np.column_stack([t["jx_floor"], t["jy_floor"], t["jz_floor"]])
+    gap = budget.momentum_gap(dp, j_react, j_grav, j_ground, j_damp - j_damp[0],
+                              j_floor - j_floor[0])
     return gap / float(np.linalg.norm(p_block[0]))
 
 
@@ -593,11 +635,14 @@ class Fence(CaseKind):
         wall = engine.run(INPUTS / "fence.in", workdir, variables, np=ctx.ranks,
                           total_steps=setup.steps, label="fence", dt=setup.dt,
                           phase_marker="impact: block released",
-                          then=("rest", setup.rest_steps) if setup.rest_steps else None)
+                          then=("rest", setup.rest_steps, IMPACT_ENDED) if setup.rest_steps else None)
         if not os.path.isfile(cached):
             keep_settled(os.path.join(workdir, "settled.restart"), cached)
         facts = self.write_outputs(setup, ctx.case_dir, workdir, read_table(workdir))
         facts["settled_from"] = cached if variables.get("from_settled") else None
+        ended = engine.log_line(workdir, IMPACT_ENDED)
+        # the impact's simulated time: ended early (the deck's line) or the whole duration
+        facts["impact_time"] = float(ended.split()[2]) if ended else c["fence.duration"]
         if setup.impacts == 2:
             second = os.path.join(workdir, "impact_2")
             second_dir = os.path.join(ctx.case_dir, "impact_2")

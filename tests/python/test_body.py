@@ -585,6 +585,43 @@ def test_bad_arguments_are_named(tmp_path, case):
     check_error(rc, out, "fix wirenet/body: " + phrase)
 
 
+OCTA_V = ["v 0.2 0 0", "v -0.2 0 0", "v 0 0.2 0", "v 0 -0.2 0", "v 0 0 0.2", "v 0 0 -0.2"]
+OCTA_F = [f"f {i} {j} {k}" for i in (1, 2) for j in (3, 4) for k in (5, 6)]
+
+# OBJ files with one word that is not what it must be (issue #43: face indices were read with
+# atoi, so '2.7' was vertex 2 and '4294967300' vertex 4): (vertex lines, face lines, phrase)
+BAD_OBJ = {
+    "fractional face index": (OCTA_V, OCTA_F[:-1] + ["f 2 4 6.7"], "line 14: face index '6.7' is not a whole number"),
+    "face index beyond int": (OCTA_V, OCTA_F[:-1] + ["f 2 4 4294967300"],
+                              "line 14: face index '4294967300' is not a whole number from 1 to 2147483647"),
+    "negative face index": (OCTA_V, ["f -1 3 5"] + OCTA_F[1:], "line 7: face index '-1' is not a whole number"),
+    "face index with a sign": (OCTA_V, ["f +1 3 5"] + OCTA_F[1:], "line 7: face index '+1' is not a whole number"),
+    "bad texture index": (OCTA_V, ["f 1/x 3 5"] + OCTA_F[1:], "line 7: face index '1/x' is not a whole number"),
+    "face index beyond the vertices": (OCTA_V, OCTA_F[:-1] + ["f 2 4 7"],
+                                       "line 14: face index 7 names a vertex the file does not have (it has 6)"),
+    "vertex coordinate with a suffix": (OCTA_V[:2] + ["v 0 0.2abc 0"] + OCTA_V[3:], OCTA_F,
+                                        "line 3: vertex coordinate '0.2abc' is not a finite number"),
+    "vertex of two numbers": (OCTA_V[:2] + ["v 0 0.2"] + OCTA_V[3:], OCTA_F, "line 3: a vertex is 'v X Y Z'"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD_OBJ))
+def test_bad_obj_file_is_named(tmp_path, case):
+    vertices, faces, phrase = BAD_OBJ[case]
+    (tmp_path / "bad.obj").write_text("\n".join(vertices + faces) + "\n")
+    deck = header(1.0) + node(1, (0.0, 0.0, 0.5), 0.01) + "fix b all wirenet/body polyhedron bad.obj kn 1e6\nrun 0\n"
+    rc, out = lmp.run_deck_rc(deck, tmp_path, timeout=60)
+    check_error(rc, out, "fix wirenet/body: polyhedron: 'bad.obj' " + phrase)
+
+
+def test_obj_index_forms_are_read(tmp_path):
+    """'i', 'i/t', 'i/t/n' and 'i//n' all name vertex i."""
+    faces = ["f 1/1 3 5", "f 1 3/1/1 6", "f 1//2 4 5", "f 1 4 6/2"] + OCTA_F[4:]
+    (tmp_path / "forms.obj").write_text("\n".join(OCTA_V + faces) + "\n")
+    deck = header(1.0) + node(1, (0.0, 0.0, 0.5), 0.01) + "fix b all wirenet/body polyhedron forms.obj kn 1e6\nrun 0\n"
+    lmp.run_deck(deck, tmp_path, timeout=60)
+
+
 def test_window_mean_force_is_the_mean_of_fix_ave_time_on_one_and_two_ranks(tmp_path):
     """`mean N`: outputs 26-28 are the mean force over the window of N steps up to the last
     multiple of N, summed on each rank and reduced once per output; fix ave/time takes the same

@@ -140,7 +140,7 @@ def test_the_supports_carry_the_weight_at_rest(hung):
     settling = out[:out.index("fence settled")]
     last = [row for row in lmp.thermo_rows(settling) if "weight" in row][-1]
     weight = meta["total_mass"] * 9.81
-    assert last["weight"] == pytest.approx(weight, rel=1e-9)
+    assert last["weight"] == pytest.approx(weight, rel=1e-7)          # thermo prints 8 digits
     assert last["ke"] < 1e-4 * weight * 1.0                  # at rest (J against N x 1 m)
     # the bottom rope lies on the ground (z = 0, the plane at minus its radius): the ground
     # carries part of the weight, the supports the rest

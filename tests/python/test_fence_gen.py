@@ -30,6 +30,7 @@ LIGGGHTS = BUILD / "bin" / "liggghts"
 
 STEEL = 7850.0
 HEA200 = (53.83e-4, 3692e-8, 1336e-8, 20.98e-8)   # A, Iy, Iz, It (EN 10365, HEA 200)
+HEA200_WIDTH = 0.2                                  # flange width b (EN 10365: 200 mm), the post spheres
 
 
 def run_gen(cwd, *args):
@@ -129,15 +130,22 @@ def expected(f):
     mt = max(1, nround((math.hypot(A, H) - a / 2) / seg))
     mb = max(1, nround((Ab - a / 2) / seg))
     mu = max(1, nround(math.hypot(U, H - zu) / seg))
+    # the top and bottom edges hang the shackle gap from their ropes' axes, the sides the post gap
+    # from their posts' axes: by default the shackle gap from the post's face (its sphere),
+    # rounded up to the cm
+    gap = f.o("shackle-gap", 0.05)
+    post_d, rope_d = f.o("post-node-diameter", HEA200_WIDTH), f.o("support-rope-diameter", 0.022)
+    post_gap = f.o("post-gap", math.ceil(100 * (gap + post_d / 2) - 1e-9) / 100)
     return dict(N=N, s=s, H=H, a=a, n=n, mt=mt, mb=mb, mu=mu, b=b, ub=ub, P=P, A=A, Ab=Ab, U=U, zu=zu,
-                gap=f.o("shackle-gap", 0.05))
+                gap=gap, post_gap=post_gap, post_d=post_d, rope_d=rope_d)
 
 
 def panel_args(f):
     """The panel subcommand and options that make one module's net."""
     e = expected(f)
     net = f.o("net", "compound")
-    skip = {"--modules", "--spacing", "--height", "--net", "--shackle-gap", "--side-shackles", "--rope-segment",
+    skip = {"--modules", "--spacing", "--height", "--net", "--shackle-gap", "--post-gap", "--side-shackles",
+            "--rope-segment",
             "--support-rope-diameter", "--upslope-rope-diameter", "--rope-fill", "--anchor-distance",
             "--bottom-anchor-distance", "--brakes", "--upslope-distance", "--upslope-height",
             "--upslope-brakes", "--post-elements", "--post-area", "--post-iy", "--post-iz", "--post-j",
@@ -149,7 +157,7 @@ def panel_args(f):
         if net != "compound":   # the fence takes the node options with the layer's prefix
             k = k.replace("--hex-", "--").replace("--square-", "--")
         rest += [k, v]
-    w, h = e["s"] - 2 * e["gap"], e["H"] - 2 * e["gap"]
+    w, h = e["s"] - 2 * e["post_gap"], e["H"] - 2 * e["gap"]
     return [net, "--width", repr(w), "--height", repr(h), *rest]
 
 
@@ -172,6 +180,10 @@ CASES = {
     "compound5": ["--modules", "5", "--spacing", "4", "--height", "3", "--ties", "2", "--shackle-gap", "0.08",
                   "--support-rope-diameter", "0.016", "--upslope-rope-diameter", "0.018", "--rope-fill", "0.6",
                   "--post-elements", "4", "--rope-segment", "0.45"],
+    # the post gap and the post spheres as given (the 50 mm spheres, both gaps 0.05 m, of the
+    # generator before the posts' spheres became the profile's width)
+    "posts": ["--modules", "2", "--spacing", "5", "--height", "3", "--post-node-diameter", "0.05",
+              "--post-gap", "0.05", "--hex-node-mass", "wire"],
 }
 
 
@@ -249,16 +261,30 @@ def test_posts_anchors_and_net_positions(fence):
         assert f.type[a["id"] - 1] == 14 and np.allclose(f.pos(a["id"]), p, atol=1e-12), name
         assert np.allclose(a["position"], p, atol=1e-12)
     assert sorted(a["id"] for a in anchors.values()) == sorted(np.flatnonzero(f.type == 14) + 1)
-    # every net node inside its module, clear of the posts and ropes by the shackle gap
-    g = e["gap"]
+    # every net node inside its module, clear of the posts by the post gap and of the support
+    # ropes by the shackle gap, the edges exactly there
+    g, gp = e["gap"], e["post_gap"]
     net = np.isin(f.type, range(1, 9))
     xn, zn = f.x[net, 0], f.x[net, 2]
     module = np.floor((xn + X) / s)
     assert np.all((module >= 0) & (module < N))
     local = xn + X - module * s
-    assert local.min() >= g - 1e-9 and local.max() <= s - g + 1e-9
+    assert math.isclose(local.min(), gp, abs_tol=1e-9) and math.isclose(local.max(), s - gp, abs_tol=1e-9)
     assert zn.min() >= g - 1e-9 and zn.max() <= H - g + 1e-9
     assert math.isclose(zn.min(), g, abs_tol=1e-9) and math.isclose(zn.max(), H - g, abs_tol=1e-9)
+    assert math.isclose(f.meta["fence"]["shackle_gap"], g) and math.isclose(f.meta["fence"]["post_gap"], gp)
+    # no net sphere touches a post or support-rope sphere; by default the side nodes clear the post
+    # spheres by at least what the top and bottom nodes clear the rope spheres
+    r = f.atoms[:, 5] / 2
+    assert np.allclose(r[np.isin(f.type, [11, 12, 13])], e["post_d"] / 2)
+    assert np.allclose(r[f.type == 9], e["rope_d"] / 2)
+    r_net = r[net].max()
+    for part in ([11, 12, 13], [9]):
+        clear = min((np.linalg.norm(f.x[net] - f.x[j], axis=1) - r[net] - r[j]).min()
+                    for j in np.flatnonzero(np.isin(f.type, part)))
+        assert clear > 0, part
+        if part == [11, 12, 13] and "--post-gap" not in f.args:
+            assert gp - r_net - e["post_d"] / 2 >= g - r_net - e["rope_d"] / 2
     # the square layer (or a lone hex layer) in the plane of the posts; a compound's hex layer upslope
     y = f.x[net, 1]
     if f.o("net", "compound") == "compound":
@@ -332,9 +358,10 @@ def seg_distance(p, a, b):
 
 def test_shackles_file_and_distances(fence):
     f, e = fence, expected(fence)
-    g = e["gap"]
+    g, gp = e["gap"], e["post_gap"]
     meta = f.meta["shackles"]
     assert meta["count"] == len(f.shackles) and meta["file"] == "f.shackles"
+    assert math.isclose(meta["gap"], g) and math.isclose(meta["post_gap"], gp)
     atoms = [s[0] for s in f.shackles]
     assert len(set(atoms)) == len(atoms) and atoms == sorted(atoms)
     assert all(1 <= a <= len(f.atoms) for r in f.ropes.values() for a in r)
@@ -371,15 +398,18 @@ def test_shackles_file_and_distances(fence):
         near = np.linalg.norm(poly - p, axis=1)
         assert np.all(near > radius[np.array(ids) - 1] + radius[a - 1]), (a, r)
         if f.type[a - 1] <= 8:
-            # a net node away from the end posts' rope corners hangs exactly the gap from its rope
+            # a net node away from the end posts' rope corners hangs exactly the gap from its
+            # support rope, a module side's node the post gap from its post
             if r <= 2 and abs(p[0]) > e["N"] * e["s"] / 2 - e["a"]:
                 continue
-            assert math.isclose(d, math.hypot(g, p[1]), rel_tol=1e-9, abs_tol=1e-12), (a, r, d)
+            assert math.isclose(d, math.hypot(g if r <= 2 else gp, p[1]), rel_tol=1e-9, abs_tol=1e-12), (a, r, d)
         elif f.type[a - 1] in (12, 13):
             # the rope passes the post base/head at a bond midpoint (the end posts: at a corner)
             assert d <= e["a"] / 2
     assert math.isclose(meta["max_distance"], dmax, rel_tol=1e-9)
-    assert dmax <= e["a"] / 2
+    # the farthest: a post head or base at a rope corner, or a side node from its post
+    hex_y = f.meta["fence"].get("hex_y", 0.0)
+    assert dmax <= max(e["a"] / 2, math.hypot(gp, hex_y) if side else 0.0) + 1e-12
 
 
 def test_mass_is_the_sum_of_its_components(fence):
@@ -424,6 +454,9 @@ def test_json_records_the_sections_and_types(fence):
     assert posts["E"] == 2.1e11 and posts["nu"] == 0.3
     user = {"--post-area", "--post-iy", "--post-iz", "--post-j"} & set(f.args[0::2])
     assert posts["section"]["profile"] == ("user" if user else "HEA 200")
+    # the post spheres: the HEA 200's width unless given
+    assert posts["node_diameter"] == f.o("post-node-diameter", HEA200_WIDTH)
+    assert ("node_diameter_note" in posts) == (posts["node_diameter"] == HEA200_WIDTH)
     r = f.meta["ropes"]
     assert (r["support"]["bond_type"], r["support"]["brake_bond_type"], r["support"]["family"]) == (5, 6, "rope")
     assert (r["upslope"]["bond_type"], r["upslope"]["brake_bond_type"], r["upslope"]["family"]) == (7, 8, "upslope")
@@ -448,14 +481,36 @@ def test_symmetric_about_the_middle_module(tmp_path):
     assert {(image[a - 1], mirror_rope(r)) for a, r in f.shackles} == set(f.shackles)
 
 
+@pytest.mark.parametrize("args", [[], ["--modules", "1", "--spacing", "4", "--height", "2"]], ids=["default", "quick"])
+def test_default_post_gap_keeps_the_net_on_its_lattice(tmp_path, args):
+    """The default post gap (0.15 m: the shackle gap from the 0.2 m post spheres' surface) leaves
+    the side edges 10 mm beyond a column of the hexagonal mesh, which the panel merges: no net bond
+    is shorter than the lattice's 40 mm, as the stable time step wants (0.14 m, the bare equal
+    clearance, left 15 and 20 mm bonds and cut the step by 20-30 %; doc/wirenet-gen.md)."""
+    gen(tmp_path, "fence", *args, "--out", "f")
+    _, _, atoms, bonds = read_data(tmp_path / "f.data")
+    meta = json.loads((tmp_path / "f.json").read_text())
+    assert meta["fence"]["post_gap"] == 0.15 and meta["posts"]["node_diameter"] == HEA200_WIDTH
+    x = {int(a[0]): a[2:5] for a in atoms}
+    net = bonds[bonds[:, 1] <= 4]
+    lengths = np.linalg.norm(np.array([x[a] - x[b] for a, b in net[:, 2:4]]), axis=1)
+    assert lengths.min() >= 0.04 - 1e-9
+
+
 BAD = [
     (["--modules", "0"], "--modules must be >= 1 (got 0)"),
     (["--spacing", "-10"], "--spacing must be > 0 (got -10)"),
     (["--height", "nan"], "--height must be a number (got nan)"),
     (["--net", "chain"], "--net must be hex, square or compound (got chain)"),
     (["--side-shackles", "rope"], "--side-shackles must be post or none (got rope)"),
-    (["--shackle-gap", "3"], "--shackle-gap must be < --spacing/2 and --height/2 (got 3)"),
-    (["--shackle-gap", "0.01"], "--shackle-gap must be > 0.0304"),
+    (["--shackle-gap", "3"], "--shackle-gap must be < --height/2 (got 3)"),
+    (["--shackle-gap", "0.01"],
+     "--shackle-gap must be > 0.0164, a net node's radius plus a support rope node's radius (got 0.01)"),
+    (["--post-gap", "0.1"], "--post-gap must be > 0.1054, a net node's radius plus a post node's radius (got 0.1)"),
+    (["--post-gap", "5"], "--post-gap must be < --spacing/2 (got 5)"),
+    (["--post-gap", "0"], "--post-gap must be > 0 (got 0)"),
+    (["--post-node-diameter", "10"],
+     "--post-gap must be < --spacing/2 (got 5.05, its default from --shackle-gap and --post-node-diameter)"),
     (["--rope-segment", "0"], "--rope-segment must be > 0 (got 0)"),
     (["--rope-segment", "0.02"], "--rope-segment 0.02 gives the support rope's bond"),
     (["--brakes", "-1"], "--brakes must be >= 0 (got -1)"),
@@ -466,7 +521,7 @@ BAD = [
     (["--rope-fill", "1.5"], "--rope-fill must be <= 1 (got 1.5)"),
     (["--ties", "2", "--net", "hex"], "--ties needs --net compound (got --net hex)"),
     (["--hex-axis-distance", "1"], "unknown option --hex-axis-distance"),
-    (["--axis-distance", "20"], "--axis-distance must be <= --spacing - 2 x --shackle-gap (got 20 > 9.9)"),
+    (["--axis-distance", "20"], "--axis-distance must be <= --spacing - 2 x --post-gap (got 20 > 9.7)"),
     (["--cell", "6", "--net", "square"], "--cell must be <= (--height - 2 x --shackle-gap) (got 6 > 4.9)"),
     (["--post-iy", "0"], "--post-iy must be > 0 (got 0)"),
     (["--post-elements", "2.5"], "--post-elements must be an integer (got 2.5)"),
@@ -581,10 +636,12 @@ def test_help_lists_every_option_with_units_and_defaults(tmp_path):
     for opt in ("--modules", "--spacing", "--height", "--net", "--rope-segment", "--anchor-distance",
                 "--bottom-anchor-distance", "--brakes", "--upslope-distance", "--upslope-height",
                 "--upslope-brakes", "--post-elements", "--post-area", "--post-iy", "--post-iz", "--post-j",
-                "--shackle-gap", "--side-shackles", "--axis-distance", "--cell", "--hex-node-diameter",
+                "--shackle-gap", "--post-gap", "--post-node-diameter", "--side-shackles", "--axis-distance",
+                "--cell", "--hex-node-diameter",
                 "--square-node-diameter", "--ties", "--max-nodes", "--out"):
         assert f"  {opt} " in out, opt
     assert "[m] (default: 10)" in out and "(default: compound)" in out
+    assert "rounded up to the cm: 0.15)" in out and "EN 10365" in out
     assert list(tmp_path.iterdir()) == []
 
 

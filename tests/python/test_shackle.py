@@ -443,6 +443,10 @@ BAD_FILES = {
     "rope count short": ("ropes 1\nR1 3 1 2\nshackles 1\n6 R1\n", "line 2: rope 'R1' says 3 atoms but lists 2"),
     "one-atom rope": ("ropes 1\nR1 1 1\nshackles 1\n6 R1\n", "rope 'R1' has 1 atom(s) (a rope needs at least 2)"),
     "bad atom id": ("ropes 1\nR1 2 1 x\nshackles 1\n6 R1\n", "rope 'R1' atom ID must be a whole number >= 1 (got 'x')"),
+    "fractional atom id": ("ropes 1\nR1 2 1 2.7\nshackles 1\n6 R1\n", "line 2: rope 'R1' atom ID must be a whole number >= 1 (got '2.7')"),
+    "atom id with a sign": ("ropes 1\nR1 2 1 +2\nshackles 1\n6 R1\n", "rope 'R1' atom ID must be a whole number >= 1 (got '+2')"),
+    "atom id beyond int": ("ropes 1\nR1 2 1 2\nshackles 1\n4294967302 R1\n",
+                           "line 4: shackle atom ID 4294967302 is too large (at most 2147483647)"),
     "fewer ropes": ("ropes 2\nR1 2 1 2\nshackles 1\n6 R1\n", "line 3: expected 2 rope lines"),
     "rope twice": ("ropes 2\nR1 2 1 2\nR1 2 3 4\nshackles 1\n6 R1\n", "line 3: rope 'R1' is listed twice"),
     "atom twice on a rope": ("ropes 1\nR1 3 1 2 1\nshackles 1\n6 R1\n", "rope 'R1' lists atom 1 twice"),
@@ -520,7 +524,8 @@ def test_reads_the_shackles_of_a_generated_fence(tmp_path, np_):
     """A small fence from `wirenet-gen fence` (doc/wirenet-gen.md): the fix reads its .shackles file,
     finds every atom and places every shackle. With `rest initial` no shackle pulls at the start;
     with `rest zero` the largest pull is kn times the largest distance of a shackle from its rope,
-    which the generator reports in the JSON (the gap g: why fence decks want `rest initial`)."""
+    which the generator reports in the JSON (the larger of the gaps, the post gap of the side
+    shackles: why fence decks want `rest initial`)."""
     import json
     import subprocess
     subprocess.run([str(lmp.GEN), "fence", "--modules", "1", "--spacing", "3", "--height", "2",

@@ -98,7 +98,7 @@ def case_files(source, folder, quick=False, overrides=(), case=None):
             tensile = {"direction": direction}
             if direction == "across" and not quick:
                 # across the twists the hexagons first open without stretching a wire: the
-                # strip carries next to nothing for the first 12 % (a --quick run's 6 cm);
+                # strip carries next to nothing for the first 14 % (a --quick run's 6 cm);
                 # 0.3 m = 60 % of the clamp distance reaches the peak (the run stops there)
                 tensile["travel"] = ACROSS_TRAVEL
             text = _toml("tensile", f"data sheet of {stem}: tensile test {direction} the "

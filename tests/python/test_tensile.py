@@ -49,7 +49,9 @@ def test_a_single_wire_breaks_at_its_breaking_load(tmp_path):
 def strips(tmp_path_factory):
     folder = tmp_path_factory.mktemp("strips")
     along = run_case(STRIP.format(w=0.48, h=0.32, d="along", travel=0.05), folder / "along")
-    across = run_case(STRIP.format(w=0.32, h=0.48, d="across", travel=0.12), folder / "across")
+    # the slower twin only for the strip whose equilibrium is tested
+    across = run_case(STRIP.format(w=0.32, h=0.48, d="across", travel=0.12) +
+                      "quasi_static_check = false\n", folder / "across")
     return along, across
 
 

@@ -173,3 +173,20 @@ def test_the_punch_report_gives_the_datasheet_figures(tmp_path):
                                                   "punch_displacement": 0.2}
     for (net, figure), (value, unit, mesh, source) in sheet.NOMINAL.items():
         assert source.startswith(("unverified:", "none:")) or "Table" in source, source
+
+
+def test_the_report_plots_a_tensile_curve(tmp_path):
+    """A tensile case folder gets its F(u) figure (force and the fixed clamp's reaction against
+    the clamp's travel, the peak and the first rupture marked) in the report."""
+    case = tmp_path / "study" / "strip"
+    case.mkdir(parents=True)
+    (case / "tensile.csv").write_text("time,displacement,force,reaction,broken\n"
+                                      "0.1,0.001,100,99,0\n0.2,0.002,300,298,0\n"
+                                      "0.3,0.003,50,49,1\n")
+    (case / "case.json").write_text(json.dumps({
+        "kind": "tensile", "status": "ok", "panel": "hex", "direction": "along",
+        "strength_per_metre": 300.0, "first_rupture": {"displacement": 0.0025}}))
+    summary = report.build(str(tmp_path / "study"))
+    assert summary["figures"]["tensile_strip"] == ["figures/tensile_strip.png",
+                                                   "figures/tensile_strip.svg"]
+    assert (tmp_path / "study" / "figures" / "tensile_strip.png").stat().st_size > 1000

@@ -1,4 +1,4 @@
-"""Figure 4: the deformed net of a punch or impact case at its peak, in 3D.
+"""Figure 4: the deformed net of a punch, impact or tensile case at its peak, in 3D.
 
 Drawn from the case's ParaView series (CASE/CASE.pvd and CASE/CASE_body.pvd, written by
 vtu.write_case_series at the end of every punch and impact case), so the figure and the VTU show
@@ -7,7 +7,8 @@ the same frame:
 - the frame: punch (and calibration) cases, the frame nearest the peak platter force before the
   first rupture (platter.csv, case.json ``first_rupture``; frames after the first rupture are
   not used unless there is no other), else the end; impact cases, the frame nearest the block's
-  lowest point (block.csv); without those tables, the frame with the largest bond tension;
+  lowest point (block.csv); without those tables (a tensile case: the strip at its peak,
+  doc/tensile.md), the frame with the largest bond tension;
 - intact bonds in tension coloured by their tension (colour bar in N, from 0 to the largest
   tension of the frame), compressive or slack bonds thin grey, broken bonds (in the data file,
   missing from the frame) a red cross at their midpoint;
@@ -24,7 +25,7 @@ from . import vtu
 from .errors import PostprocessError
 
 CMAP = "viridis"
-SERIES_KINDS = ("punch", "calibration", "impact")
+SERIES_KINDS = ("punch", "calibration", "impact", "tensile")
 
 
 def _read_vtu(path):

@@ -214,6 +214,38 @@ def figure_fence(case_dir, prefix, title=None, outputs=None):
     return save(fig, prefix, outputs)
 
 
+def figure_tensile(case_dir, prefix, title=None, outputs=None):
+    """A tensile case (runner/kinds/tensile.py, doc/tensile.md): the force on the moving clamp
+    and the fixed clamp's reaction against the clamp's travel (tensile.csv), the peak and the
+    first rupture marked."""
+    plt = pyplot()
+    table = read_csv(os.path.join(case_dir, "tensile.csv"),
+                     required=("displacement", "force", "reaction"))
+    fig, ax = plt.subplots(figsize=(7, 4.5), layout="constrained")
+    scale, unit = force_scale([table["force"], table["reaction"]])
+    u = np.r_[0.0, table["displacement"]] * 1e3
+    ax.plot(u, np.r_[0.0, table["force"]] / scale, label="force on the moving clamp")
+    ax.plot(u, np.r_[0.0, table["reaction"]] / scale, "--", label="fixed clamp's reaction")
+    if len(table["force"]):
+        k = int(np.argmax(table["force"]))
+        ax.plot(table["displacement"][k] * 1e3, table["force"][k] / scale, "o", color="black",
+                label=f"peak {table['force'][k] / scale:.4g} {unit} at "
+                      f"{table['displacement'][k] * 1e3:.4g} mm")
+    meta_path = os.path.join(case_dir, "case.json")
+    if os.path.isfile(meta_path):
+        import json
+        with open(meta_path, encoding="utf-8") as handle:
+            first = first_rupture_at(json.load(handle).get("first_rupture"), "displacement")
+        if first is not None:
+            ax.axvline(first * 1e3, color="red", linestyle=":", label="first rupture")
+    ax.set_xlabel("clamp travel [mm]")
+    ax.set_ylabel(f"force [{unit}]")
+    ax.legend(fontsize="small")
+    if title:
+        ax.set_title(title, fontsize="medium")
+    return save(fig, prefix, outputs)
+
+
 def first_rupture_at(record, x):
     """Abscissa of a case.json first rupture on a figure plotted against x: the punch records
     {displacement, ...}, the impact a time; None when absent or not on that axis."""
@@ -273,6 +305,15 @@ def _study_figures(directory, cases, outputs, summaries):
             try:
                 written[name] = figure_fence(case.path, os.path.join(out, name),
                                              case.meta.get("title") or case.name, outputs)
+            except PostprocessError as exc:
+                print(f"postprocess: warning: {name} skipped: {exc}", file=sys.stderr)
+    for case in cases.values():
+        if case.kind == "tensile" and case.usable and \
+                os.path.isfile(os.path.join(case.path, "tensile.csv")):
+            name = f"tensile_{case.name}"
+            try:
+                written[name] = figure_tensile(case.path, os.path.join(out, name),
+                                               case.meta.get("title") or case.name, outputs)
             except PostprocessError as exc:
                 print(f"postprocess: warning: {name} skipped: {exc}", file=sys.stderr)
     # Figure 4: the deformed net at the peak, one per punch / calibration / impact case that

@@ -9,7 +9,7 @@ import json
 import os
 
 
-from . import casefolders, claims, ensemble_report, ensembles
+from . import casefolders, claims, datasheet, ensemble_report, ensembles
 from .summary import case_summary
 from .claims import CLAIMS
 from .output import Outputs, json_text
@@ -234,6 +234,24 @@ QUASI_STATIC_NOTE = (
     "current one while the force is at least 10 % of its peak), and the travel from which every "
     "row balances within 1 % of its own reaction; all up to the first rupture (case.json, "
     "`quasi_static`; doc/punch.md). Required: 1 % each.")
+
+
+DATASHEET_NOTE = (
+    "The figures of a manufacturer's data sheet (doc/tensile.md): a punch's resistance is the "
+    "platter's peak force and the travel at it; a tensile strip's strength is its peak force per "
+    "metre of width, its elongation the clamp's travel over the clamp distance, at the peak and "
+    "where the strip failed. Nominal values are those of the mesh type named beside them (the "
+    "case's net may differ: compare like with like); a source starting with 'unverified:' was "
+    "not read in the original, 'none:' means no nominal value was found. The model's punch is "
+    "the case's own test (the paper's UNI 11437 set-up by default), not ASTM A975's.")
+
+
+def datasheet_rows(summaries):
+    for name, s in summaries.items():
+        figures = s.get("datasheet")
+        if figures:
+            for label, model, nominal, source in datasheet.rows(s.get("panel"), figures):
+                yield [name, str(s.get("panel")), label, model, nominal, source]
 
 
 def _section(title, text):
@@ -468,6 +486,11 @@ def markdown(directory, summaries, verdicts, missing, figures, dissipation=(), e
                           fmt(q["equilibrium_holds_from"]) if q["equilibrium_holds_from"]
                           is not None else "never", fmt(q["snap_events"]), fmt(q["passed"])]
                          for n, q in evidence.items()])
+    sheet = list(datasheet_rows(summaries))
+    if sheet:
+        lines += _section("Data-sheet figures (punch and tensile cases)", DATASHEET_NOTE)
+        lines += _table(["case", "net", "figure", "model", "nominal", "source of the nominal"],
+                        sheet)
     peak_rows = impact_peak_rows(summaries)
     if peak_rows:
         lines += ["", "## Impact: peak tension, single net vs compound (Figures 5 and 6)", ""]

@@ -3,7 +3,7 @@ the peaks of its CSVs (case_summary). No markdown and no figures here."""
 
 import numpy as np
 
-from . import casefolders
+from . import casefolders, datasheet
 
 
 def _peak_abs(values):
@@ -79,6 +79,9 @@ def case_summary(case):
         summary["fence"] = fence_summary(case.meta)
     if isinstance(case.meta.get("quasi_static"), dict):
         summary["quasi_static"] = quasi_static_summary(case.meta["quasi_static"])
+    figures = datasheet.of_case(case)
+    if figures is not None:
+        summary["datasheet"] = figures
     return summary
 
 

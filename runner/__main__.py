@@ -2,6 +2,7 @@
 
     /usr/bin/python3 -m runner run [STUDY|CASE|FILE.toml] [--quick] [--np N] [--partitions M]
                                    [--out DIR] [--set KEY=VALUE ...]
+    /usr/bin/python3 -m runner run datasheet FILE.toml [...]   the data sheet of the file's net
     /usr/bin/python3 -m runner new KIND               a commented case file on stdout
     /usr/bin/python3 -m runner keys                  the key tables of doc/case_files.md
 
@@ -35,7 +36,10 @@ def build_parser():
     run = sub.add_parser("run", help="run a study, a case or a case file")
     run.add_argument("target", nargs="?", metavar="STUDY|CASE|FILE.toml",
                      help="a study of inputs/studies/ (default compound: the paper), a case of "
-                          "inputs/cases/, or a case or study file")
+                          "inputs/cases/, or a case or study file; datasheet FILE.toml: the "
+                          "data sheet of the file's net (doc/tensile.md)")
+    run.add_argument("file", nargs="?", metavar="FILE.toml",
+                     help="after datasheet: the case file whose net the data sheet is of")
     run.add_argument("--quick", action="store_true", help="coarse, short versions of the cases")
     run.add_argument("--np", type=_ranks, default=None, metavar="N",
                      help="cores to use (default: WIRENET_NP, else the machine's cores as nproc "
@@ -62,8 +66,16 @@ def main(argv=None):
         from postprocess.errors import PostprocessError
         from . import study
         from .errors import RunError
+        if args.file and args.target != "datasheet":
+            print(f"wirenet run: error: one target only (got {args.target} and {args.file}; "
+                  "a second argument follows datasheet)", file=sys.stderr)
+            return 2
         try:
-            study.run(args)
+            if args.target == "datasheet":
+                from . import datasheet
+                datasheet.run(args)
+            else:
+                study.run(args)
         except (RunError, PostprocessError) as exc:   # a case failed: its folder and the error
             print(f"wirenet run: error: {exc}", file=sys.stderr, flush=True)
             return 2

@@ -48,8 +48,10 @@ COMMON = [
         "mirror-symmetric about x = 0 (symmetric: hexaNet's isSymmetric=True net)", GENERATOR,
         choices=("twist", "wire", "corner", "symmetric")),
     Key("panel.selvedge", "choice", "loop", "", "edge wire of the hex mesh: a selvedge bond "
-        "between consecutive edge nodes (loop), or none, the lattice's own bonds along the edges "
-        "kept (YADE's hexaNet has no selvedge)", GENERATOR, choices=("loop", "none")),
+        "between consecutive edge nodes (loop), none, the lattice's own bonds along the edges "
+        "kept (YADE's hexaNet has no selvedge), or sides: along the two x edges only, parallel "
+        "to the twists (a strip cut from a roll, its y edges bare)", GENERATOR,
+        choices=("loop", "none", "sides")),
     Key("panel.hex_node_radius", "number", 0.0, "m", "radius of a hex node sphere; 0: the "
         "generator's 5.4 mm (a diameter of 4 wire diameters)", GENERATOR, low=0.0, high=0.05),
     Key("panel.hex_node_mass", "number", 0.0039, "kg", "mass of a hex node", "Thoeni et al. "
@@ -256,11 +258,14 @@ def unsourced(case):
 
 def default_of(key, kind, quick=False):
     """The key's default for a case of this kind (a value, ByKey or Derived), --quick's where it
-    has one."""
+    has one. A kind's own default stands in --quick too (a tensile strip is smaller than the
+    quick panel)."""
+    own = kinds.BY_NAME[kind].defaults
+    if key.path in own:
+        return own[key.path]
     if quick and key.quick is not None:
         return key.quick
-    own = kinds.BY_NAME[kind].defaults
-    return own[key.path] if key.path in own else key.default
+    return key.default
 
 
 def defaults_by_kind(key):

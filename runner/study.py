@@ -241,20 +241,26 @@ def default_ranks():
     return value
 
 
-def run(args):
+def run(args, prepare=None, after=None):
     """``./wirenet run``. Paths are made absolute at once: LIGGGHTS runs inside each case
-    folder, where a relative path would point elsewhere."""
+    folder, where a relative path would point elsewhere. ``prepare(out)``, when given, returns
+    (name, files) instead of the target (the data sheet writes its case files into the output
+    folder: runner/datasheet.py); ``after(out, summary)`` runs once the report is written."""
     previous = {s: signal.signal(s, _raise_interrupt) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
         np_ = default_ranks() if args.np is None else args.np
         _check_np(np_)
-        name, files = resolve_target(args.target or DEFAULT_STUDY)
-        given = args.out or os.path.join("out", name)
-        loaded, ensembles = expand_ensembles(load_cases(files, args.quick, args.set or ()),
-                                             os.path.abspath(given))
-        partitions = args.partitions
+        if prepare is None:
+            name, files = resolve_target(args.target or DEFAULT_STUDY)
+            given = args.out or os.path.join("out", name)
+            loaded, ensembles = expand_ensembles(load_cases(files, args.quick, args.set or ()),
+                                                 os.path.abspath(given))
+            out = output_folder(given)
+        else:
+            out, files = prepare()
+            loaded, ensembles = expand_ensembles(load_cases(files, args.quick, ()), out)
+        partitions = getattr(args, "partitions", None)
         check_partitions(loaded, np_, partitions)
-        out = output_folder(given)
         start = time.time()
         with FolderLock(out):
             for found in ensembles:
@@ -264,6 +270,8 @@ def run(args):
         for claim in summary["claims"]:
             print(f"claim {claim['id']}: {claim['verdict']}")
         print(f"report: {os.path.join(out, 'report.md')} (wall time {time.time() - start:.0f} s)")
+        if after is not None:
+            after(out, summary)
         unsound = {n: s for n, s in report.all_cases(summary).items()
                    if n in names and s["status"] in record.UNSOUND}
         if unsound:

@@ -78,7 +78,9 @@ def _default_text(key):
     else:
         text = ", ".join(f"{k}: {_value_text(v)}" for k, v in by_kind.items())
     if key.quick is not None:
-        text += f" (--quick: {_value_text(key.quick)})"
+        own = [k.name for k in kinds_with_own(key)]
+        text += f" (--quick: {_value_text(key.quick)}" + (
+            f"; {', '.join(own)}: {'its' if len(own) == 1 else 'their'} own" if own else "") + ")"
     return text.replace("|", "\\|")
 
 
@@ -89,6 +91,12 @@ def _type_text(key):
             "pairs": "[[e, s], ...]", "list-int": "[n, ...]", "list-number": "[x, ...]",
             "values": "[value, ...]", "keys": "[\"key\", ...] or \"unsourced\"",
             "bending": "number or \"calibrated\""}.get(key.type, key.type)
+
+
+def kinds_with_own(key):
+    """The kinds that state their own default of the key (it stands in --quick too)."""
+    from . import kinds
+    return [k for k in kinds.ALL if key.path in k.defaults and applies(key, k.name)]
 
 
 def kind_names():

@@ -53,8 +53,9 @@ void addHexOptions(Options& o, const std::string& pre) {
     o.addString("placement", placementName(d.placement), "hex lattice: twist (a twist on the centre), wire (a single-wire "
                 "midpoint there), corner (a twist on the lower-left corner, as YADE's hexaNet) or symmetric (the odd "
                 "rows of twists on both x edges, as YADE's hexaNet with startAtCorner=False, isSymmetric=True)");
-    o.addString("selvedge", d.selvedge ? "loop" : "none", "hex edge wire: loop (a selvedge bond between consecutive edge "
-                "nodes) or none (no edge wire, as YADE's hexaNet)");
+    o.addString("selvedge", selvedgeName(d.selvedge), "hex edge wire: loop (a selvedge bond between consecutive edge "
+                "nodes), none (no edge wire, as YADE's hexaNet) or sides (along the two x edges only, parallel to the "
+                "twists: a strip cut from a roll, its y edges bare)");
 }
 
 // The square layer's options (`pre` prefixes the node's in a compound net); defaults SquareParams'.
@@ -225,7 +226,8 @@ HexParams hexParams(const Options& o, const std::string& pre) {
     }
     if (!parsePlacement(o.str("placement"), p.placement))
         throw UsageError("--placement must be twist, wire, corner or symmetric (got " + o.str("placement") + ")");
-    p.selvedge = o.choice("selvedge", {"loop", "none"}) == "loop";
+    if (!parseSelvedge(o.choice("selvedge", {"loop", "none", "sides"}), p.selvedge))
+        throw UsageError("--selvedge must be loop, none or sides (got " + o.str("selvedge") + ")");
     return p;
 }
 

@@ -35,6 +35,24 @@ bool parsePlacement(const std::string& text, Placement& p) {
     return false;
 }
 
+const char* selvedgeName(Selvedge s) {
+    switch (s) {
+        case Selvedge::Loop: return "loop";
+        case Selvedge::None: return "none";
+        case Selvedge::Sides: return "sides";
+    }
+    return "loop";
+}
+
+bool parseSelvedge(const std::string& text, Selvedge& s) {
+    for (Selvedge c : {Selvedge::Loop, Selvedge::None, Selvedge::Sides})
+        if (text == selvedgeName(c)) {
+            s = c;
+            return true;
+        }
+    return false;
+}
+
 Eigen::Vector2d HexParams::latticeOrigin() const {
     switch (placement) {
         case Placement::Twist: return {0.0, 0.0};
@@ -73,7 +91,7 @@ Eigen::Vector2d reducedOrigin(const HexParams& p) {
 // Builds the clipped graph: lattice nodes (snapped), boundary crossings (merged), bonds.
 class ClippedGraph {
 public:
-    ClippedGraph(double X, double Y, double eps, bool selvedge)
+    ClippedGraph(double X, double Y, double eps, Selvedge selvedge)
         : X_(X), Y_(Y), eps_(eps), selvedge_(selvedge) {}
 
     // Lattice node; coordinates within eps of an edge line are moved onto it so that
@@ -102,24 +120,27 @@ public:
         const int a = alive_[i] && t0 == 0 ? i : boundaryNode(onEdge(p + t0 * (q - p)));
         const int b = alive_[j] && t1 == 1 ? j : boundaryNode(onEdge(p + t1 * (q - p)));
         if (a == b) return;
-        if (selvedge_ && sameEdge(pos_[a], pos_[b])) return;  // along the edge: the selvedge covers it
+        if (covered(pos_[a], pos_[b])) return;  // along an edge with a selvedge: it covers it
         if ((a != i || b != j) && (pos_[a] - pos_[b]).norm() < eps_) return;  // sliver
         if (!pairs_.insert({std::min(a, b), std::max(a, b)}).second) return;
         bonds_.push_back({type, a, b});
     }
 
-    // Selvedge: consecutive boundary nodes around the perimeter, closed loop.
+    // Selvedge: consecutive boundary nodes around the perimeter, a closed loop (Loop), or only
+    // the pairs of consecutive nodes on one x edge (Sides: from corner to corner along x = -W/2
+    // and x = +W/2; the y edges bare).
     void addSelvedge(int type) {
         std::vector<int> ring = boundary_;
         std::sort(ring.begin(), ring.end(),
                   [&](int u, int v) { return perimeter(pos_[u]) < perimeter(pos_[v]); });
         for (size_t k = 0; k < ring.size(); ++k) {
             const int a = ring[k], b = ring[(k + 1) % ring.size()];
+            if (selvedge_ == Selvedge::Sides && !sameXEdge(pos_[a], pos_[b])) continue;
             if (pairs_.insert({std::min(a, b), std::max(a, b)}).second) bonds_.push_back({type, a, b});
         }
     }
 
-    // Nodes on no bond (a corner without the selvedge loop) are left out.
+    // Nodes on no bond (a corner without a selvedge) are left out.
     NetModel toModel(const HexParams& hp) const {
         NetModel m;
         std::vector<char> bonded(pos_.size(), 0);
@@ -148,8 +169,20 @@ private:
     bool onBoundary(const Eigen::Vector2d& p) const {
         return std::abs(p.x()) == X_ || std::abs(p.y()) == Y_;
     }
-    bool sameEdge(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const {
-        return (std::abs(a.x()) == X_ && a.x() == b.x()) || (std::abs(a.y()) == Y_ && a.y() == b.y());
+    bool sameXEdge(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const {
+        return std::abs(a.x()) == X_ && a.x() == b.x();
+    }
+    bool sameYEdge(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const {
+        return std::abs(a.y()) == Y_ && a.y() == b.y();
+    }
+    // A lattice segment along an edge that carries a selvedge (which then replaces it).
+    bool covered(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const {
+        switch (selvedge_) {
+            case Selvedge::Loop: return sameXEdge(a, b) || sameYEdge(a, b);
+            case Selvedge::Sides: return sameXEdge(a, b);
+            case Selvedge::None: return false;
+        }
+        return false;
     }
     // Puts a clipped point exactly on the edge line it was clipped against.
     Eigen::Vector2d onEdge(Eigen::Vector2d p) const {
@@ -200,7 +233,7 @@ private:
     }
 
     double X_, Y_, eps_;
-    bool selvedge_;
+    Selvedge selvedge_;
     std::vector<Eigen::Vector2d> pos_;
     std::vector<char> alive_;
     std::vector<int> boundary_;
@@ -243,7 +276,7 @@ NetModel HexPanel::build() const {
             bottom[slot(k, q)] = g.addLatticeNode({x, yc - 0.5 * t});
             top[slot(k, q)] = g.addLatticeNode({x, yc + 0.5 * t});
         }
-    if (p_.selvedge) g.addCorners();
+    if (p_.selvedge != Selvedge::None) g.addCorners();
     for (int k = -K; k <= K; ++k)
         for (int q = -Q; q <= Q; ++q) {
             const int up = top[slot(k, q)];
@@ -254,7 +287,7 @@ NetModel HexPanel::build() const {
             for (int dq : {-1, 1})
                 if (std::abs(q + dq) <= Q) g.addSegment(up, bottom[slot(k + 1, q + dq)], btype::SW);
         }
-    if (p_.selvedge) g.addSelvedge(btype::Selvedge);
+    if (p_.selvedge != Selvedge::None) g.addSelvedge(btype::Selvedge);
 
     NetModel m = g.toModel(p_);
     const double mass = nodeMass(m);
@@ -295,7 +328,7 @@ Json HexPanel::cellJson() const {
     Json origin = Json::array();
     origin.push(p_.latticeOrigin().x()).push(p_.latticeOrigin().y());
     c.set("placement", placementName(p_.placement)).set("lattice_origin", origin);
-    c.set("selvedge", p_.selvedge ? "loop" : "none");
+    c.set("selvedge", selvedgeName(p_.selvedge));
     return c;
 }
 

@@ -19,6 +19,16 @@ const char* placementName(Placement p);
 // Parses "twist", "wire", "corner" or "symmetric"; false for anything else.
 bool parsePlacement(const std::string& text, Placement& p);
 
+// The edge wire (doc/wirenet-gen.md, "Selvedge"):
+// Loop  - a selvedge bond between consecutive edge nodes all around the panel (a woven panel);
+// None  - no edge wire, the lattice's own bonds along the edges kept (YADE's hexaNet);
+// Sides - the selvedge along the two x edges only (x = +-W/2, parallel to the twists: the roll's
+//   edges), none along the y edges (the roll's cut ends): a strip cut from a roll.
+enum class Selvedge { Loop, None, Sides };
+const char* selvedgeName(Selvedge s);
+// Parses "loop", "none" or "sides"; false for anything else.
+bool parseSelvedge(const std::string& text, Selvedge& s);
+
 struct HexParams {
     double width = 3.0, height = 3.0;  // panel, m
     double axisDistance = 0.080;       // distance between neighbouring twist axes (x), m
@@ -33,9 +43,10 @@ struct HexParams {
     double z = 0;                      // plane of the layer
     int molecule = 1;
     Placement placement = Placement::Twist;
-    // Selvedge loop (type 3) around the edges, as a woven panel has; false: no edge wire, the
-    // lattice's own bonds along the edges are kept (YADE's hexaNet has no selvedge).
-    bool selvedge = true;
+    // The edge wire (type 3): around the panel (Loop, as a woven panel has), none (YADE's
+    // hexaNet has no selvedge; the lattice's own bonds along the edges are kept) or along the x
+    // edges only (Sides: a strip cut from a roll, its cut y edges bare).
+    Selvedge selvedge = Selvedge::Loop;
 
     double swLength() const;
     double rowPitch() const { return twistLength + rise; }

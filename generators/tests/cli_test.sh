@@ -44,8 +44,8 @@ bad "give --hex-node-diameter or --hex-node-radius, not both" compound --hex-nod
 bad "--placement must be twist, wire, corner or symmetric (got middle)" hex --placement middle --out p
 bad "--placement must be twist, wire, corner or symmetric (got Corner)" compound --placement Corner --out p
 bad "--placement must not be empty (got '')" hex --placement= --out p
-bad "--selvedge must be loop or none (got yes)" hex --selvedge yes --out p
-bad "--selvedge must be loop or none (got None)" compound --selvedge None --out p
+bad "--selvedge must be loop, none or sides (got yes)" hex --selvedge yes --out p
+bad "--selvedge must be loop, none or sides (got None)" compound --selvedge None --out p
 bad "--out is required"                      hex --width 2
 bad "--width needs a value"                  hex --width
 bad "--zlo must be below the nodes (got 0.5)" hex --zlo 0.5 --out p
@@ -168,6 +168,10 @@ grep -q '"selvedge": "loop"' hex.json || fail "hex.json lacks \"selvedge\": \"lo
 grep -q '"selvedge": "none"' hex_bare.json || fail "hex_bare.json lacks \"selvedge\": \"none\""
 awk '/^Bonds/{b=1; next} b && NF == 4 && $2 == 3 {n++} END {exit n > 0}' hex_bare.data ||
     fail "hex --selvedge none still has selvedge bonds"
+# sides: the selvedge of the x edges only; on YADE's tensile net exactly its 239 links.
+"$GEN" hex --width 0.96 --height 0.52 --placement symmetric --selvedge sides --out hex_sides |
+    grep -q "178 atoms, 239 bonds (DT 81, SW 144, selvedge 14)" || fail "hex --selvedge sides: not YADE's 239 links"
+grep -q '"selvedge": "sides"' hex_sides.json || fail "hex_sides.json lacks \"selvedge\": \"sides\""
 # Corner: the first atom is the lower-left corner (-W/2, -H/2), then the top of the edge twist.
 awk '/^Atoms/{a=1; next} a && NF >= 7 {print $2, $3, $4; n++} n == 2 {exit}' hex_corner.data |
     tr '\n' ' ' | grep -qx "4 -1.5 -1.5 2 -1.5 -1.46 " || fail "hex --placement corner does not start at the corner"

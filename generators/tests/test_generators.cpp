@@ -187,17 +187,28 @@ static void checkHexInvariants(const NetModel& m, const HexParams& p) {
         if (m.nodes[b.a].type == 1 && m.nodes[b.b].type == 1 && b.type != btype::Selvedge)
             CHECK(std::abs(len - nominal) < 1e-12, "interior bond type %d length %g", b.type, len);
     }
-    // Selvedge: a closed loop, every boundary node on exactly two selvedge bonds.
+    // Selvedge. Loop: a closed loop, every boundary node on exactly two selvedge bonds. Sides:
+    // along the x edges only, from corner to corner (a corner on one, every other x-edge node
+    // on two), no y-edge node on any. None: no selvedge bond.
     std::map<int, int> selv;
     for (const auto& b : m.bonds)
         if (b.type == btype::Selvedge) { ++selv[b.a]; ++selv[b.b]; }
-    long boundary = 0;
-    for (size_t i = 0; i < m.nodes.size(); ++i)
-        if (m.nodes[i].type != 1) {
-            ++boundary;
-            CHECK(selv[int(i)] == 2, "boundary node %zu has %d selvedge bonds", i, selv[int(i)]);
-        }
-    CHECK_EQ(countBonds(m, btype::Selvedge), boundary);
+    long boundary = 0, xEdge = 0;
+    for (size_t i = 0; i < m.nodes.size(); ++i) {
+        const int type = m.nodes[i].type, n = selv[int(i)];
+        if (type == atype::HexInterior) continue;
+        ++boundary;
+        xEdge += type == atype::HexEdgeX || type == atype::HexCorner;
+        const int want = p.selvedge == Selvedge::Loop    ? 2
+                         : p.selvedge == Selvedge::None  ? 0
+                         : type == atype::HexCorner      ? 1
+                         : type == atype::HexEdgeX       ? 2
+                                                         : 0;
+        CHECK(n == want, "selvedge %s: boundary node %zu (type %d) has %d selvedge bonds, not %d",
+              selvedgeName(p.selvedge), i, type, n, want);
+    }
+    const long expected = p.selvedge == Selvedge::Loop ? boundary : p.selvedge == Selvedge::Sides ? xEdge - 2 : 0;
+    CHECK_EQ(countBonds(m, btype::Selvedge), expected);
 }
 
 static void testHex() {
@@ -529,6 +540,72 @@ static void testHexSymmetric() {
           "tensile net: lattice origin (%g, %g)", p.latticeOrigin().x(), p.latticeOrigin().y());
 }
 
+// --selvedge sides: the selvedge of the x edges only (a strip cut from a roll). Every size,
+// family and placement keeps the invariants; the lattice bonds are those of the loop, and the
+// selvedge is the loop's minus its bonds along the y edges; on hexaNet's symmetric sizes the
+// bonds are exactly the links of YADE's tensile example (its corners keep only their x-edge link).
+static void testHexSides() {
+    std::printf("hex selvedge sides\n");
+    const HexParams base;
+    const double a = base.axisDistance, t = base.twistLength, pitch = base.rowPitch();
+    std::vector<HexParams> panels;
+    for (auto [W, H] : std::vector<std::pair<double, double>>{
+             {3, 3}, {(2 * 12 + 1) * a / 2, 2 * 6 * pitch - t}, {12 * a, 2 * 7 * pitch - t}, {2.5, 1.7}, {0.96, 0.52}, {0.48, 1.0}})
+        for (Placement pl : {Placement::Twist, Placement::Wire, Placement::Corner, Placement::Symmetric}) {
+            HexParams p;
+            p.width = W;
+            p.height = H;
+            p.placement = pl;
+            panels.push_back(p);
+        }
+    for (const HexParams& p : panels) {
+        HexParams loopP = p, sidesP = p;
+        sidesP.selvedge = Selvedge::Sides;
+        const NetModel loop = HexPanel(loopP).build(), sides = HexPanel(sidesP).build();
+        // (the symmetry checks compare coordinates printed to 1e-9 m: a coordinate on a rounding
+        // boundary fails them for the loop too; the sides net must keep the loop's symmetries)
+        for (auto [sx, sy] : std::vector<std::pair<double, double>>{{-1, 1}, {1, -1}, {-1, -1}})
+            CHECK(symmetric(sides, sx, sy) == symmetric(loop, sx, sy), "sides %g x %g %s: symmetry (%g, %g) differs "
+                  "from the loop's", p.width, p.height, placementName(p.placement), sx, sy);
+        HexParams checked = sidesP;
+        if (p.placement == Placement::Wire && !symmetric(loop, -1, -1)) checked.placement = Placement::Corner;
+        checkHexInvariants(sides, checked);
+        CHECK(nodeSet(sides) == nodeSet(loop), "sides %g x %g %s: nodes differ from the loop's", p.width, p.height,
+              placementName(p.placement));
+        const auto loopBonds = bondSet(loop), sidesBonds = bondSet(sides);
+        for (const auto& b : loopBonds) {
+            const auto& [type, u, v] = b;
+            const bool yEdge = type == btype::Selvedge && u.second == v.second &&
+                               std::abs(u.second * 1e-9) > p.height / 2 - 1e-9;
+            CHECK(sidesBonds.count(b) == !yEdge, "sides %g x %g %s: bond type %d (%g, %g)-(%g, %g) %s", p.width,
+                  p.height, placementName(p.placement), type, u.first * 1e-9, u.second * 1e-9, v.first * 1e-9,
+                  v.second * 1e-9, yEdge ? "along a y edge kept" : "lost");
+        }
+        for (const auto& b : sidesBonds) CHECK(loopBonds.count(b), "sides: a bond the loop does not have");
+    }
+    for (auto [nx, ny] : std::vector<std::pair<long, long>>{{13, 7}, {12, 6}, {7, 3}, {20, 10}, {6, 5}, {5, 4}}) {
+        HexParams p;
+        p.placement = Placement::Symmetric;
+        p.selvedge = Selvedge::Sides;
+        p.width = (nx - 1) * a;
+        p.height = ny * t + (ny - 1) * base.rise;
+        const NetModel m = HexPanel(p).build();
+        CHECK(bondSet(m) == yadeSymmetricNet(p, nx, ny).links, "sides nx %ld ny %ld: bonds differ from YADE's links",
+              nx, ny);
+    }
+    HexParams p;  // the tensile example's net: 81 DT + 144 SW + 14 edge wire = YADE's 239 links
+    p.placement = Placement::Symmetric;
+    p.selvedge = Selvedge::Sides;
+    p.width = 0.96;
+    p.height = 0.52;
+    const NetModel m = HexPanel(p).build();
+    CHECK_EQ(long(m.nodes.size()), 178);
+    CHECK_EQ(long(m.bonds.size()), 239L);
+    CHECK_EQ(countBonds(m, btype::Selvedge), 14L);
+    std::printf("  %zu panels; the tensile net: %zu atoms, %zu bonds (YADE: 178, 239)\n", panels.size(),
+                m.nodes.size(), m.bonds.size());
+}
+
 static void testHexPlacement() {
     std::printf("hex lattice placement\n");
     for (auto [W, H] : std::vector<std::pair<double, double>>{{3, 3}, {2.5, 1.7}, {3.13, 2.91}, {1.0, 1.0}, {4.4, 2.2}}) {
@@ -575,7 +652,7 @@ static void testHexPlacement() {
             CHECK_EQ(countBonds(m, btype::DT), twists - edgeTwists);
             // Without the selvedge: hexaNet's twist ends only (its extra corner spheres would be
             // on no bond), every twist a DT bond, the edge twists included; no edge wire.
-            p.selvedge = false;
+            p.selvedge = Selvedge::None;
             const NetModel bare = HexPanel(p).build();
             CHECK_EQ(long(bare.nodes.size()), 2 * twists);
             CHECK_EQ(countBonds(bare, btype::DT), twists);
@@ -1029,6 +1106,7 @@ int main() {
     testHex();
     testHexPlacement();
     testHexSymmetric();
+    testHexSides();
     testSquare();
     testCompound();
     testBeam();

@@ -276,6 +276,47 @@ def bench_yade_punch(out, travel):
     return res
 
 
+TENSILE_CASE = ROOT / "docs" / "examples" / "yade_tensile.toml"
+TENSILE_SCRIPT = ROOT / "tests" / "bench" / "yade_tensile.py"
+TENSILE_REFERENCE = ROOT / "tests" / "reference" / "yade_tensile" / "yade_tensile.json"
+
+
+def bench_yade_tensile(out, yade_displ=0.045):
+    """YADE WirePM's tensile test in both codes (doc/tensile.md): WireNet runs the case file
+    docs/examples/yade_tensile.toml on one core, YADE tests/bench/yade_tensile.py to
+    `yade_displ` metres of clamp travel (past the peak at 40.8 mm; without the Debian package
+    yade the full run kept in tests/reference/yade_tensile/ stands in); returns the comparison
+    table of `yade_tensile.py --compare` (force at 10/20/40 mm, peak and its displacement) and
+    whether every difference is within 2 %."""
+    folder = out / "yade_tensile"
+    shutil.rmtree(folder, ignore_errors=True)
+    cmd = [sys.executable, "-P", "-m", "runner", "run", str(TENSILE_CASE), "--np", "1", "--out",
+           str(folder)]
+    p = subprocess.run(cmd, cwd=ROOT, env=dict(ENV, PYTHONPATH=str(ROOT)), stdout=subprocess.PIPE,
+                       stderr=subprocess.STDOUT, text=True)
+    if p.returncode != 0:
+        raise RuntimeError("WireNet yade_tensile failed:\n" + p.stdout[-3000:])
+    reference, note = TENSILE_REFERENCE, "YADE: the run kept in tests/reference/yade_tensile/"
+    yade = shutil.which("yade")
+    if yade is not None:
+        prefix = out / "yade_tensile_yade"
+        q = subprocess.run([yade, "-n", "-x", "-j1", str(TENSILE_SCRIPT), str(prefix),
+                            repr(yade_displ)], cwd=out, stdout=subprocess.PIPE,
+                           stderr=subprocess.STDOUT, text=True)
+        if q.returncode != 0 or not Path(f"{prefix}.json").exists():
+            raise RuntimeError("YADE yade_tensile.py failed:\n" + q.stdout[-3000:])
+        reference, note = Path(f"{prefix}.json"), f"YADE run here to {yade_displ} m"
+    c = subprocess.run([sys.executable, str(TENSILE_SCRIPT), "--compare",
+                        str(folder / "yade_tensile" / "case.json"), str(reference)],
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    return {"table": c.stdout.strip(), "within_target": c.returncode == 0, "reference": note}
+
+
+def yade_tensile_table(t):
+    return "\n".join(["### YADE WirePM tensile test (docs/examples/yade_tensile.toml)", "",
+                      f"{t['reference']}; WireNet on one core.", "", t["table"]])
+
+
 def bench_ranks(out, steps, repeats=3, ranks=(1, 2)):
     """The 3 m compound panel's punch and impact on 1 and 2 MPI ranks: LIGGGHTS' loop time of
     `steps` steps of the load phase (after a short pre-load or settling, which is not timed).
@@ -448,7 +489,7 @@ def main(argv=None):
                          "(default out/compound, what ./wirenet run writes)")
     ap.add_argument("--rank-steps", type=int, default=4000,
                     help="steps of the 1-vs-2-rank comparison on the compound panel")
-    ap.add_argument("--only", choices=("yade", "ranks", "study"),
+    ap.add_argument("--only", choices=("yade", "yade-tensile", "ranks", "study"),
                     help="run one benchmark only (no doc rewrite)")
     ap.add_argument("--no-doc", action="store_true", help="do not rewrite docs/PERFORMANCE.md")
     opts = ap.parse_args(argv)
@@ -466,6 +507,11 @@ def main(argv=None):
         print(ranks_table(r))
         (opts.out / "ranks_results.json").write_text(json.dumps(r, indent=2) + "\n")
         return 0
+    if opts.only == "yade-tensile":
+        t = bench_yade_tensile(opts.out)
+        print(yade_tensile_table(t))
+        (opts.out / "yade_tensile_results.json").write_text(json.dumps(t, indent=2) + "\n")
+        return 0 if t["within_target"] else 1
     if opts.only == "yade":
         y = bench_yade_punch(opts.out, opts.yade_travel)
         print(yade_table(y))
@@ -483,9 +529,13 @@ def main(argv=None):
     print(f"[bench] YADE WirePM punch test: WireNet and YADE, {opts.yade_travel} m of travel, 1 core",
           flush=True)
     res["yade_punch"] = bench_yade_punch(opts.out, opts.yade_travel)
+    print("[bench] YADE WirePM tensile test: WireNet and YADE, force at 10/20/40 mm and the peak",
+          flush=True)
+    res["yade_tensile"] = bench_yade_tensile(opts.out)
     print(f"[bench] 1 vs 2 MPI ranks: 3 m compound punch and impact, {opts.rank_steps} steps", flush=True)
     res["ranks"] = bench_ranks(opts.out, opts.rank_steps, opts.repeats)
-    text = "\n\n".join([table(res), yade_table(res["yade_punch"]), ranks_table(res["ranks"]),
+    text = "\n\n".join([table(res), yade_table(res["yade_punch"]),
+                         yade_tensile_table(res["yade_tensile"]), ranks_table(res["ranks"]),
                          study_table(opts.study)])
     print()
     print(text)

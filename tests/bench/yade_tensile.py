@@ -55,8 +55,56 @@ import sys
 import time
 from math import pi, sqrt
 
-from yade import O
-from yade.config import version
+# ---- the comparison with WireNet (plain python3, no YADE needed):
+#
+#   python3 tests/bench/yade_tensile.py --compare WIRENET_CASE_JSON [YADE_JSON]
+#
+# WIRENET_CASE_JSON: case.json of `./wirenet run docs/examples/yade_tensile.toml`; YADE_JSON: this
+# script's OUT_PREFIX.json (default: tests/reference/yade_tensile/yade_tensile.json, the full run
+# kept in the repository). Prints the table of doc/tensile.md (force at 10/20/40 mm, peak and its
+# displacement, first rupture) with the relative differences; exit 1 if one is above 2 % (issue
+# #40's target).
+TARGET = 0.02
+
+
+def compare(wirenet_json, yade_json):
+    with open(wirenet_json) as handle:
+        w = json.load(handle)
+    with open(yade_json) as handle:
+        y = json.load(handle)
+    rows = [("force at %d mm [kN]" % mm, y["force_at_%dmm" % mm]["F_clamp"] / 1e3,
+             (w["forces_at"].get(repr(mm / 1e3)) or float("nan")) / 1e3) for mm in (10, 20, 40)]
+    rows += [("peak force [kN]", y["peak_force"] / 1e3, w["peak_force"] / 1e3),
+             ("displacement at the peak [mm]", y["peak_displ"] * 1e3,
+              w["displacement_at_peak"] * 1e3)]
+    first = (w.get("first_rupture") or {}).get("displacement")
+    lines = ["| quantity | YADE %s | WireNet | difference |" % y.get("yade", ""),
+             "|---|---|---|---|"]
+    worst = 0.0
+    for name, a, b in rows:
+        rel = (b - a) / a
+        worst = max(worst, abs(rel)) if rel == rel else float("inf")
+        lines.append("| %s | %.3f | %.3f | %+.2f %% |" % (name, a, b, 100 * rel))
+    if y.get("first_rupture_displ") and first:
+        lines.append("| first rupture at [mm] (not a target) | %.2f | %.2f | %+.2f %% |" % (
+            1e3 * y["first_rupture_displ"], 1e3 * first,
+            100 * (first - y["first_rupture_displ"]) / y["first_rupture_displ"]))
+    lines.append("")
+    lines.append("largest difference %.2f %% (target %.0f %%): %s" % (
+        100 * worst, 100 * TARGET, "within" if worst <= TARGET else "OUTSIDE"))
+    return "\n".join(lines), worst <= TARGET
+
+
+if len(sys.argv) > 2 and sys.argv[1] == "--compare":
+    import os
+    reference = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "reference",
+                             "yade_tensile", "yade_tensile.json")
+    text, ok = compare(sys.argv[2], sys.argv[3] if len(sys.argv) > 3 else reference)
+    print(text)
+    sys.exit(0 if ok else 1)
+
+from yade import O  # noqa: E402  (after the comparison mode, which needs no YADE)
+from yade.config import version  # noqa: E402
 from yade.pack import hexaNet
 from yade.utils import createInteraction, uniaxialTestFeatures
 from yade.wrapper import (Bo1_Sphere_Aabb, ForceResetter, Ig2_Sphere_Sphere_ScGeom,

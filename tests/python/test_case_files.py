@@ -81,7 +81,7 @@ def error_of(text):
     ('kind = "punch"\n[materials]\nslack_seed = -2\n', "materials.slack_seed: must be >= -1, got -2"),
     ('kind = "punch"\n[materials]\nslack_f = 0.0\n', "materials.slack_f: must be > 0, got 0"),
     ('kind = "punch"\n[materials]\nslack_u = nan\n', "materials.slack_u: must be a finite number"),
-    ('kind = "punch"\n[panel]\nselvedge = "yes"\n', "panel.selvedge: must be one of loop, none"),
+    ('kind = "punch"\n[panel]\nselvedge = "yes"\n', "panel.selvedge: must be one of loop, none, sides"),
     ('kind = "punch"\n[output]\ndump_rows = 0\n', "output.dump_rows: must be >= 1, got 0"),
     ('kind = "punch"\n[output]\nrow_time = 1e-3\n', "output.row_time: only for kind 'impact'"),
     ('kind = "impact"\n[output]\nrow_travel = 1e-3\n', "output.row_travel: only for kind"),

@@ -1,6 +1,6 @@
-"""The three cases the paper does not have (docs/examples/), each a case file run end to end by
+"""The cases the paper does not have (docs/examples/), each a case file run end to end by
 the driver as a user types it (`./wirenet run FILE.toml --quick`), with no Python or deck edit:
-YADE WirePM's punch test, an oblique off-centre impact on a pinned 4 m x 2.5 m panel with two
+YADE WirePM's punch test, YADE WirePM's tensile test (within 2 % of YADE: doc/tensile.md), an oblique off-centre impact on a pinned 4 m x 2.5 m panel with two
 output zones, and two successive impacts on the same compound panel."""
 
 import json
@@ -62,6 +62,28 @@ def test_yade_punch_test(tmp_path):
     assert m["quasi_static"]["curve_difference"] is None
     assert m["quasi_static"]["kinetic_energy_fraction"] is not None
     assert (case / "yade_punch.pvd").is_file()
+
+
+def test_yade_tensile_test(tmp_path):
+    """YADE's wiretensiltest.py: the example states its net, clamps and travel, so --quick runs
+    it whole (about 25 s on 2 cores); its net is bond for bond YADE's 239 links, and the force at
+    10/20/40 mm, the peak and its displacement are within 2 % of YADE's run
+    (tests/reference/yade_tensile/yade_tensile.json, by tests/bench/yade_tensile.py --compare)."""
+    run_example("yade_tensile", tmp_path)
+    case = tmp_path / "yade_tensile"
+    m = meta(case)
+    assert m["status"] == "ok"
+    panel = json.loads((case / "setup" / "panel.json").read_text())
+    assert panel["cells"]["hex"]["selvedge"] == "sides"
+    assert panel["counts"]["atoms"] == 178 and panel["counts"]["bonds"] == 239
+    assert panel["counts"]["bonds_per_type"] == {"1": 81, "2": 144, "3": 14, "4": 0}
+    p = subprocess.run(["/usr/bin/python3", str(lmp.ROOT / "tests" / "bench" / "yade_tensile.py"),
+                        "--compare", str(case / "case.json")], capture_output=True, text=True,
+                       timeout=60)
+    assert p.returncode == 0, p.stdout + p.stderr
+    assert "within" in p.stdout
+    assert m["first_rupture"]["bond"]["family"] == "DT"
+    assert m["quasi_static"]["passed"] is True
 
 
 def test_oblique_impact_on_a_pinned_panel(tmp_path):

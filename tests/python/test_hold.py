@@ -85,7 +85,7 @@ def test_anchors_carry_the_weight_half_each_at_rest(tmp_path):
     print_each = ('fix out all print 10000 "E $(step) $(f_h[4]) $(f_h[5]) $(f_h[6]) '
                   '$(f_h[1][1]) $(f_h[1][5]) $(f_h[1][6]) $(f_h[1][7]) '
                   '$(f_h[2][1]) $(f_h[2][5]) $(f_h[2][6]) $(f_h[2][7])" screen yes')
-    out = lmp.run_deck(deck([f"fix h ends wirenet/hold 0 0 0 mean 10000 each", print_each],
+    out = lmp.run_deck(deck(["fix h ends wirenet/hold 0 0 0 mean 10000 each", print_each],
                             steps=400000, shake=False, calm=True), tmp_path)
     e = numbers(out, "E")[-1]
     weight = (N + 1) * RHO * math.pi * D ** 3 / 6 * G

@@ -422,8 +422,8 @@ communicate single cutoff 0.5
 GOOD = f"kn {KN!r} kt {KT!r} mu {MU!r}"
 BAD_ARGS = {
     "missing file": (GOOD, "missing keyword 'file PATH'"),
-    "missing kn": (f"file rope.shackles kt 1 mu 0.3", "missing keyword 'kn KN'"),
-    "missing mu": (f"file rope.shackles kn 1 kt 1", "missing keyword 'mu MU'"),
+    "missing kn": ("file rope.shackles kt 1 mu 0.3", "missing keyword 'kn KN'"),
+    "missing mu": ("file rope.shackles kn 1 kt 1", "missing keyword 'mu MU'"),
     "unknown keyword": (f"file rope.shackles {GOOD} friction 2", "unknown keyword 'friction'"),
     "kn zero": ("file rope.shackles kn 0 kt 1 mu 0.3", "kn must be > 0 (got 0)"),
     "kt negative": ("file rope.shackles kn 1 kt -1 mu 0.3", "kt must be > 0 (got -1)"),

@@ -299,21 +299,17 @@ def _study_figures(directory, cases, outputs, summaries):
                         for c, _ in series}
             written[name] = figure_zone(series, os.path.join(out, name), x, families, title,
                                         ruptures, outputs)
-    for case in cases.values():
-        if case.kind == "fence" and case.usable:
-            name = f"fence_{case.name}"
+    # one figure per fence case (fence.csv) and per tensile case (tensile.csv)
+    for kind, figure, table in (("fence", figure_fence, "fence.csv"),
+                                ("tensile", figure_tensile, "tensile.csv")):
+        for case in cases.values():
+            if case.kind != kind or not case.usable or (
+                    kind == "tensile" and not os.path.isfile(os.path.join(case.path, table))):
+                continue
+            name = f"{kind}_{case.name}"
             try:
-                written[name] = figure_fence(case.path, os.path.join(out, name),
-                                             case.meta.get("title") or case.name, outputs)
-            except PostprocessError as exc:
-                print(f"postprocess: warning: {name} skipped: {exc}", file=sys.stderr)
-    for case in cases.values():
-        if case.kind == "tensile" and case.usable and \
-                os.path.isfile(os.path.join(case.path, "tensile.csv")):
-            name = f"tensile_{case.name}"
-            try:
-                written[name] = figure_tensile(case.path, os.path.join(out, name),
-                                               case.meta.get("title") or case.name, outputs)
+                written[name] = figure(case.path, os.path.join(out, name),
+                                       case.meta.get("title") or case.name, outputs)
             except PostprocessError as exc:
                 print(f"postprocess: warning: {name} skipped: {exc}", file=sys.stderr)
     # Figure 4: the deformed net at the peak, one per punch / calibration / impact case that

@@ -89,17 +89,23 @@ BAD = [
 ]
 
 
-@pytest.mark.parametrize("section,message", BAD)
-def test_bad_tensile_keys_get_one_line_and_exit_2(tmp_path, section, message):
-    path = tmp_path / "bad.toml"
-    path.write_text('kind = "tensile"\n' + section)
-    p = subprocess.run([sys.executable, "-P", "-m", "runner", "run", str(path), "--out",
+def assert_refused(tmp_path, args, message):
+    """`runner run ARGS` stops before anything runs: exit 2, one line holding ``message``, no
+    output folder."""
+    p = subprocess.run([sys.executable, "-P", "-m", "runner", "run", *args, "--out",
                         str(tmp_path / "out")], cwd=ROOT, capture_output=True, text=True,
                        env=dict(os.environ, PYTHONPATH=str(ROOT)), timeout=60)
     assert p.returncode == 2, p.stderr
     lines = p.stderr.strip().splitlines()
     assert len(lines) == 1 and message in lines[0], p.stderr
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("section,message", BAD)
+def test_bad_tensile_keys_get_one_line_and_exit_2(tmp_path, section, message):
+    path = tmp_path / "bad.toml"
+    path.write_text('kind = "tensile"\n' + section)
+    assert_refused(tmp_path, [str(path)], message)
 
 
 @pytest.mark.parametrize("args,message", [
@@ -109,13 +115,7 @@ def test_bad_tensile_keys_get_one_line_and_exit_2(tmp_path, section, message):
     (["punch_hex", "extra.toml"], "one target only"),
 ])
 def test_datasheet_mistakes_get_one_line_and_exit_2(tmp_path, args, message):
-    p = subprocess.run([sys.executable, "-P", "-m", "runner", "run", *args, "--out",
-                        str(tmp_path / "out")], cwd=ROOT, capture_output=True, text=True,
-                       env=dict(os.environ, PYTHONPATH=str(ROOT)), timeout=60)
-    assert p.returncode == 2, p.stderr
-    lines = p.stderr.strip().splitlines()
-    assert len(lines) == 1 and message in lines[0], p.stderr
-    assert not (tmp_path / "out").exists()
+    assert_refused(tmp_path, args, message)
 
 
 def test_the_datasheet_case_files_are_the_nets_tests(tmp_path):

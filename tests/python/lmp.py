@@ -23,6 +23,14 @@ boundary f f f
 newton off on
 """
 
+# The material properties `pair_style gran model hertz` needs for one atom type (the test decks'
+# soft contact: E 1e7 Pa, nu 0.3, restitution and friction 0.5).
+HERTZ_MATERIALS = """fix m1 all property/global youngsModulus peratomtype 1e7
+fix m2 all property/global poissonsRatio peratomtype 0.3
+fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5
+fix m4 all property/global coefficientFriction peratomtypepair 1 0.5
+"""
+
 # Deck preamble for bare granular spheres (no bonds) that touch walls or bodies.
 GRANULAR_PREAMBLE = """units si
 atom_style granular

@@ -40,6 +40,24 @@ BOND_COLS = "c_bl[1] c_bl[2] c_bl[3] c_bl[4] c_bl[5] c_bl[6]"
 RUPTURE_COLS = " ".join(f"f_wirenet_bonds[{k}]" for k in range(1, 9))
 
 
+def outgrown_bond(workdir):
+    """A deck whose one bond, across the boundary of two ranks (x = 0.08), outgrows the ghosts'
+    reach: neighbour lists rebuilt only every 200 steps unchecked while node 2 is pulled at
+    30 m/s (0.2 m, 0.06 m further by step 200). Writes long.data into ``workdir``."""
+    atoms = [(1, 1, -0.02, 0.0, 0.0, 0.0108, 7850.0, 1), (2, 1, 0.18, 0.0, 0.0, 0.0108, 7850.0, 1)]
+    lmp.write_data(workdir / "long.data", atoms, [(1, 1, 1, 2)])
+    return lmp.PREAMBLE + f"""processors * 1 1
+read_data long.data
+neigh_modify delay 0 every 200 check no
+bond_style wirenet
+bond_coeff 1 wire diameter 0.0027 curve {SW_CURVE}
+group pulled id 2
+fix pull pulled move linear 30 0 0
+timestep 1e-5
+run 400
+"""
+
+
 def make_net(workdir, margin_x=0.6):
     """Write workdir/net.data (and .json) with wirenet-gen; x margin room for the pull (the box
     is x = +-(0.3 + margin_x))."""

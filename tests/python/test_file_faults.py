@@ -28,6 +28,7 @@ from pathlib import Path
 import pytest
 
 import lmp
+import netdeck
 from test_input_errors import ATOMS, BONDS
 from test_wire_errors import GOOD, check_error
 
@@ -82,11 +83,7 @@ neighbor 0.01 bin
 neigh_modify delay 0
 pair_style gran model hertz tangential history
 pair_coeff * *
-fix m1 all property/global youngsModulus peratomtype 1e7
-fix m2 all property/global poissonsRatio peratomtype 0.3
-fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5
-fix m4 all property/global coefficientFriction peratomtypepair 1 0.5
-bond_style wirenet
+{lmp.HERTZ_MATERIALS}bond_style wirenet
 bond_coeff 1 {GOOD}
 group ends id 1 4
 fix pull ends move linear 0.5 0 0
@@ -254,18 +251,7 @@ def test_restart_in_one_file_per_processor(tmp_path):
 def test_one_rank_error_ends_without_the_abort_banner(tmp_path):
     """A bond across the rank boundary outgrows the ghosts: rank 0 alone finds it (Error::one). The
     job ends with its one ERROR line and a non-zero exit, without OpenMPI's MPI_ABORT banner."""
-    atoms = [(1, 1, -0.02, 0.0, 0.0, 0.0108, 7850.0, 1), (2, 1, 0.18, 0.0, 0.0, 0.0108, 7850.0, 1)]
-    lmp.write_data(tmp_path / "long.data", atoms, [(1, 1, 1, 2)])
-    deck = lmp.PREAMBLE + f"""processors * 1 1
-read_data long.data
-neigh_modify delay 0 every 200 check no
-bond_style wirenet
-bond_coeff 1 {GOOD}
-group pulled id 2
-fix pull pulled move linear 30 0 0
-timestep 1e-5
-run 400
-"""
+    deck = netdeck.outgrown_bond(tmp_path)
     rc, out = run(deck, tmp_path, np=2)
     errors = lmp.error_lines(out)
     assert rc > 0 and len(errors) == 1, out[-2000:]
@@ -297,11 +283,7 @@ communicate single vel yes
 processors * 1 1
 region box block -1 1 -1 1 -1 1 units box
 create_box 1 box
-fix m1 all property/global youngsModulus peratomtype 1e7
-fix m2 all property/global poissonsRatio peratomtype 0.3
-fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5
-fix m4 all property/global coefficientFriction peratomtypepair 1 0.5
-{command}
+""" + lmp.HERTZ_MATERIALS + """{command}
 run 0
 """
 TRI = "fix wall all mesh/surface file {name} type 1"

@@ -45,11 +45,7 @@ neighbor 0.01 bin
 neigh_modify delay 0
 pair_style gran model hertz tangential history
 pair_coeff * *
-fix m1 all property/global youngsModulus peratomtype 1e7
-fix m2 all property/global poissonsRatio peratomtype 0.3
-fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5
-fix m4 all property/global coefficientFriction peratomtypepair 1 0.5
-"""]
+""" + lmp.HERTZ_MATERIALS]
     for i, (x, v) in SPHERES.items():
         lines.append(f"create_atoms 1 single {x[0]!r} {x[1]!r} {x[2]!r} units box")
     for i, (x, v) in SPHERES.items():

@@ -167,18 +167,7 @@ def test_partner_beyond_the_ghosts_is_a_clear_error(tmp_path):
     without checking (`check no`) lets a bond across the rank boundary outgrow the reach (0.2 m
     pulled 0.06 m in 200 steps): the run stops with one line that names the bond and the setting
     to raise, not LIGGGHTS' generic 'Bond atoms missing'."""
-    atoms = [(1, 1, -0.02, 0.0, 0.0, 0.0108, 7850.0, 1), (2, 1, 0.18, 0.0, 0.0, 0.0108, 7850.0, 1)]
-    lmp.write_data(tmp_path / "long.data", atoms, [(1, 1, 1, 2)])
-    deck = lmp.PREAMBLE + f"""processors * 1 1
-read_data long.data
-neigh_modify delay 0 every 200 check no
-bond_style wirenet
-bond_coeff 1 wire diameter 0.0027 curve {netdeck.SW_CURVE}
-group pulled id 2
-fix pull pulled move linear 30 0 0
-timestep 1e-5
-run 400
-"""
+    deck = netdeck.outgrown_bond(tmp_path)
     rc, out = lmp.run_deck_rc(deck, tmp_path, np=2)
     errors = lmp.error_lines(out)
     assert rc != 0 and len(errors) == 1, out[-1500:]

@@ -274,13 +274,7 @@ def test_error_on_the_other_rank_ends_without_the_banner(tmp_path, np_):
 
 # ---- mesh files ----------------------------------------------------------------------------------
 
-MESH_DECK = """units si
-atom_style granular
-atom_modify map array sort 0 0
-boundary f f f
-newton off
-communicate single vel yes
-processors * 1 1
+MESH_DECK = lmp.GRANULAR_PREAMBLE + """processors * 1 1
 region box block -1 1 -1 1 -1 1 units box
 create_box 1 box
 """ + lmp.HERTZ_MATERIALS + """{command}

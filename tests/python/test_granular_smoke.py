@@ -32,13 +32,7 @@ SPHERES = {
 
 
 def deck():
-    lines = ["""units si
-atom_style granular
-atom_modify map array sort 0 0
-boundary f f f
-newton off
-communicate single vel yes
-processors * 1 1
+    lines = [lmp.GRANULAR_PREAMBLE + """processors * 1 1
 region box block -1 1 -1 1 -2 2 units box
 create_box 1 box
 neighbor 0.01 bin

@@ -299,12 +299,12 @@ def _study_figures(directory, cases, outputs, summaries):
                         for c, _ in series}
             written[name] = figure_zone(series, os.path.join(out, name), x, families, title,
                                         ruptures, outputs)
-    # one figure per fence case (fence.csv) and per tensile case (tensile.csv)
-    for kind, figure, table in (("fence", figure_fence, "fence.csv"),
+    # one figure per fence case and per tensile case that wrote its table
+    for kind, figure, table in (("fence", figure_fence, None),
                                 ("tensile", figure_tensile, "tensile.csv")):
         for case in cases.values():
             if case.kind != kind or not case.usable or (
-                    kind == "tensile" and not os.path.isfile(os.path.join(case.path, table))):
+                    table and not os.path.isfile(os.path.join(case.path, table))):
                 continue
             name = f"{kind}_{case.name}"
             try:

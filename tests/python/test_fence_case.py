@@ -240,3 +240,17 @@ def test_a_rest_file_without_the_probe_column_is_refused(tmp_path):
     (tmp_path / "rest.csv").write_text("time,ke\n0.1,5.0\n0.2,4.0\n")
     with pytest.raises(PostprocessError, match="rest.csv:1: missing column gap"):
         runner_fence.read_rest(tmp_path)
+
+
+@pytest.mark.parametrize("restitution", [0.1, 0.35, 0.8, 1.0])
+def test_floor_damping_gives_the_block_its_restitution(restitution):
+    """fence.ground_restitution becomes the floor's gamma_n: the damped linear oscillator of the
+    block on the floor (stiffness kn, mass M, c = gamma_n M) has the coefficient of restitution
+    e = exp(-zeta pi / sqrt(1 - zeta^2)), zeta = c / (2 sqrt(kn M)); e = 1: no damping."""
+    import math
+    from runner.kinds.fence import floor_damping
+    kn, mass = 1e8, 1600.0
+    gamma = floor_damping(restitution, kn, mass)
+    zeta = gamma * mass / (2.0 * math.sqrt(kn * mass))
+    assert math.exp(-zeta * math.pi / math.sqrt(1.0 - zeta ** 2)) == pytest.approx(restitution,
+                                                                                   rel=1e-12)

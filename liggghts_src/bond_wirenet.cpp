@@ -363,7 +363,7 @@ void BondWirenet::init_record(const Entry &e, double length)
 // f (the force array) comes from the caller, read once per compute: the rupture path's call
 // would otherwise make the compiler reload it for every bond. The plastic work is a function of
 // the bond's state, summed when the tally is read (sync_plastic), not here.
-__attribute__((always_inline)) inline void BondWirenet::compute_wire(const WireEntry &e, double dx, double dy, double dz, double r, int eflag,
+__attribute__((always_inline)) inline void BondWirenet::compute_wire(int index, const WireEntry &e, double dx, double dy, double dz, double r, int eflag,
                                                                      double **f)
 {
   double *h = e.h;
@@ -389,7 +389,7 @@ __attribute__((always_inline)) inline void BondWirenet::compute_wire(const WireE
     const double c = 2.0 * zeta * sqrt(e.k.ku * mi * mj / (mi + mj));
     pull = tension + c * vn;
     if (pull < 0.0) pull = 0.0;
-    damping_power[e.type] += (pull - tension) * vn;  // >= 0
+    wire_damp.push_back({ index, (pull - tension) / r });
   }
   const double fr = pull / r;
   f[e.i][0] += fr * dx; f[e.i][1] += fr * dy; f[e.i][2] += fr * dz;
@@ -544,14 +544,16 @@ void BondWirenet::compute(int eflag, int vflag)
 
   double **x = atom->x, **f = atom->f;
   const size_t ntypes = (size_t)atom->nbondtypes + 1;
-  damping_power.assign(ntypes, 0.0);
   elastic_energy.assign(ntypes, 0.0);
-  for (const WireEntry &e : wire_list) {
+  wire_damp.clear();
+  beam_damp.clear();
+  for (int q = 0; q < (int)wire_list.size(); q++) {
+    const WireEntry &e = wire_list[q];
     if (e.h[FixWirenetBonds::L0] < 0.0) continue;  // broken since the list was built
     const double dx = x[e.j][0] - x[e.i][0];
     const double dy = x[e.j][1] - x[e.i][1];
     const double dz = x[e.j][2] - x[e.i][2];
-    compute_wire(e, dx, dy, dz, sqrt(dx * dx + dy * dy + dz * dz), eflag, f);
+    compute_wire(q, e, dx, dy, dz, sqrt(dx * dx + dy * dy + dz * dz), eflag, f);
   }
   if (!beam_list.empty()) {
     const int npair = (int)beam_list.size();
@@ -568,9 +570,12 @@ void BondWirenet::compute(int eflag, int vflag)
     }
     if (any_beam_damping) damp_beams();
   }
-  // the set-up's force evaluation is not a step: nothing is dissipated over it
-  if (!update->setupflag)
-    for (size_t t = 1; t < ntypes; t++) history->add_tally((int)t, FixWirenetBonds::DAMPING, damping_power[t] * update->dt);
+  // the tally at the end of the step (every rank asks: its ghost update is collective); the
+  // set-up's velocities are full-step ones already
+  if (any_damping) {
+    if (update->setupflag) tally_damping();
+    else history->request_damping_tally(this);
+  }
   if (eflag) history->set_elastic_energy(elastic_energy);
   if (update->setupflag) report_timestep();
 }
@@ -596,7 +601,7 @@ void BondWirenet::sync_plastic()
 }
 
 // Bond damping of the beam bonds (after their elastic forces; a broken bond's lane has zero
-// coefficients): forces, torques and the dissipated power.
+// coefficients): forces and torques, kept for the tally at the end of the step.
 void BondWirenet::damp_beams()
 {
   const double *x = atom->x[0], *v = atom->v[0], *w = atom->omega[0];
@@ -607,10 +612,53 @@ void BondWirenet::damp_beams()
       const double ca = p.c.ca[k], cs = p.c.cs[k], cb = p.c.cb[k], ct = p.c.ct[k];
       if (ca == 0.0 && cs == 0.0 && cb == 0.0 && ct == 0.0) continue;  // undamped type or broken
       const int i = p.i[k], j = p.j[k];
-      damping_power[p.type[k]] += BeamLaw::damp(ca, cs, cb, ct, x + 3 * i, x + 3 * j, v + 3 * i, v + 3 * j, w + 3 * i, w + 3 * j,
-                                    f + 3 * i, f + 3 * j, t + 3 * i, t + 3 * j);
+      BeamDampLoad d = { i, j, p.type[k], { 0.0, 0.0, 0.0 }, { 0.0, 0.0, 0.0 }, { 0.0, 0.0, 0.0 } };
+      double fj[3] = { 0.0, 0.0, 0.0 };
+      BeamLaw::damp(ca, cs, cb, ct, x + 3 * i, x + 3 * j, v + 3 * i, v + 3 * j, w + 3 * i, w + 3 * j, d.f, fj, d.ti, d.tj);
+      for (int c = 0; c < 3; c++) {
+        f[3 * i + c] += d.f[c];
+        f[3 * j + c] -= d.f[c];
+        t[3 * i + c] += d.ti[c];
+        t[3 * j + c] += d.tj[c];
+      }
+      beam_damp.push_back(d);
     }
   }
+}
+
+// The power the dampers of this step's compute() take out of the nodes' motion at the end of the
+// step, P = -sum F.v, per bond type (positions have not moved since the forces). A force applied
+// at step n works over the half kicks on either side of it: the kinetic energy at step n holds
+// P(n) dt/2, the rest (pending) goes in at step n + 1. The set-up's forces start a run's first
+// step: their half goes in at step 1 (a restart's or a new run's set-up replaces the last half of
+// the run before, whose forces were evaluated again).
+void BondWirenet::tally_damping()
+{
+  double **x = atom->x, **v = atom->v, **w = atom->omega;
+  const size_t ntypes = (size_t)atom->nbondtypes + 1;
+  damping_power.assign(ntypes, 0.0);
+  if (damping_pending.size() != ntypes) damping_pending.assign(ntypes, 0.0);
+  for (const WireDampLoad &d : wire_damp) {
+    const WireEntry &e = wire_list[d.e];
+    double vn = 0.0;
+    for (int c = 0; c < 3; c++) vn += (v[e.j][c] - v[e.i][c]) * (x[e.j][c] - x[e.i][c]);
+    damping_power[e.type] += d.fr * vn;
+  }
+  for (const BeamDampLoad &d : beam_damp) {
+    double p = 0.0;
+    for (int c = 0; c < 3; c++)
+      p += d.f[c] * (v[d.j][c] - v[d.i][c]) - d.ti[c] * w[d.i][c] - d.tj[c] * w[d.j][c];
+    damping_power[d.type] += p;
+  }
+  const double half = 0.5 * update->dt;
+  for (size_t t = 1; t < ntypes; t++) {
+    const double now = damping_power[t] * half;
+    if (!update->setupflag && (now != 0.0 || damping_pending[t] != 0.0))
+      history->add_tally((int)t, FixWirenetBonds::DAMPING, damping_pending[t] + now);
+    damping_pending[t] = now;
+  }
+  wire_damp.clear();
+  beam_damp.clear();
 }
 
 // Stable time step of the bonds present: per bond, the two-node axial and rotational

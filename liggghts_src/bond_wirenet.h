@@ -51,6 +51,9 @@ class BondWirenet : public Bond {
   // after the first force evaluation of a run (the list is built there).
   void stable_frequencies(double w2[2]) const;
   bool list_built() const { return list_version >= 0; }
+  // Tally the energy the bond dampers took over this step: called by fix wirenet/bonds at the
+  // end of the step, with every node's (ghosts' too) full-step velocity current.
+  void tally_damping();
 
  private:
   // The intact local bonds, rebuilt whenever atoms or bond slots change: wire bonds as entries
@@ -79,9 +82,19 @@ class BondWirenet : public Bond {
   int any_strength;      // a beam type with `strength`
   int any_beam_damping;  // a beam type with `damping` > 0
   int any_damping;       // any type with `damping` > 0
-  // per bond type, in this compute() (energy budget): power dissipated by bond damping, elastic
-  // energy (with eflag)
+  // per bond type, in this compute() (energy budget): elastic energy (with eflag); at the end of
+  // the step: power dissipated by bond damping
   std::vector<double> damping_power, elastic_energy;
+  // The damping loads applied in this compute(), evaluated with the half-step velocities the
+  // forces see, and tallied at the end of the step with the full-step ones: in velocity Verlet a
+  // force F applied at step n changes the kinetic energy by exactly F.v(n) dt, so the dampers'
+  // share of the budget is exact; the half-step power is off by F.a dt/2 per step, an O(dt) drift
+  // that grows with the accelerations (a broken rope whipping).
+  struct WireDampLoad { int e; double fr; };  // wire_list index; damping force / length
+  struct BeamDampLoad { int i, j, type; double f[3], ti[3], tj[3]; };  // f on i, -f on j
+  std::vector<WireDampLoad> wire_damp;
+  std::vector<BeamDampLoad> beam_damp;
+  std::vector<double> damping_pending;  // [type]: the second half of the last step's damper work
   // per bond type: this rank's sum of the intact wire and brake bonds' plastic work when the
   // tally was last brought up to date (sync_plastic), and scratch for the sum now
   std::vector<double> plastic_seen, plastic_now;
@@ -92,7 +105,7 @@ class BondWirenet : public Bond {
   void set_type(int type, const WireNet::BondTypeSpec &spec);
   void build_list();
   void init_record(const Entry &e, double length);
-  inline void compute_wire(const WireEntry &e, double dx, double dy, double dz, double r, int eflag, double **f);
+  inline void compute_wire(int index, const WireEntry &e, double dx, double dy, double dz, double r, int eflag, double **f);
   template <int EVFLAG, bool STRENGTH, bool SECTION> void compute_beams(int eflag, int q0, int q1);
   void pad_last_pair(WireNet::BeamSection<WireNet::Lanes> *s);
   void break_beam(BeamPair &p, int k);

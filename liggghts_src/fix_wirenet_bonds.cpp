@@ -29,7 +29,7 @@ static const int RUPTURE_COLS = 8;
 FixWirenetBonds::FixWirenetBonds(LAMMPS *lmp, int narg, char **arg) :
   Fix(lmp, narg, arg),
   hist(NULL), quat(NULL), rot(NULL), orient_flag(0), vel_flag(0), version(0), ghost_extent(0.0), reach_grown(false),
-  nbroken_total(0), nbroken_pending(0), elastic_step(-1), pair_wanted(false), maxlocal(0)
+  nbroken_total(0), nbroken_pending(0), elastic_step(-1), pair_wanted(false), damping_source(nullptr), maxlocal(0)
 {
   if (narg != 3) error->all(FLERR, "fix wirenet/bonds takes no arguments (it is created by bond_style wirenet)");
   if (!atom->molecular) error->all(FLERR, "fix wirenet/bonds needs an atom style with bonds");
@@ -88,7 +88,7 @@ FixWirenetBonds::~FixWirenetBonds()
 
 int FixWirenetBonds::setmask()
 {
-  return PRE_EXCHANGE | PRE_NEIGHBOR | PRE_FORCE | POST_RUN;
+  return PRE_EXCHANGE | PRE_NEIGHBOR | PRE_FORCE | END_OF_STEP | POST_RUN;
 }
 
 void FixWirenetBonds::init()
@@ -324,6 +324,16 @@ void FixWirenetBonds::pre_exchange()
 void FixWirenetBonds::sync_tallies()
 {
   if (BondWirenet *bond = dynamic_cast<BondWirenet *>(force->bond)) bond->sync_plastic();
+}
+
+// The bond dampers' tally (request_damping_tally): the ghosts' velocities and angular velocities
+// are the half-step ones LIGGGHTS sent before the forces; their owners have the full-step ones now.
+void FixWirenetBonds::end_of_step()
+{
+  if (!damping_source) return;
+  comm->forward_comm_fix(this);
+  damping_source->tally_damping();
+  damping_source = nullptr;
 }
 
 void FixWirenetBonds::post_run()

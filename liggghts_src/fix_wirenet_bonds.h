@@ -32,6 +32,7 @@ class FixWirenetBonds : public Fix {
   void pre_neighbor();
   void setup_pre_force(int);
   void pre_force(int);
+  void end_of_step();
   void post_run();
   double compute_scalar();
   double compute_vector(int);
@@ -81,6 +82,9 @@ class FixWirenetBonds : public Fix {
   // and brake bonds, energy dissipated by bond damping.
   enum Tally { RELEASED = 0, PLASTIC = 1, DAMPING = 2, NTALLY = 3 };
   void add_tally(int type, Tally k, double w) { tally_mine[(size_t)type * NTALLY + k] += w; }
+  // the bond style applied damping loads in this step's forces: at the end of the step, once
+  // the ghosts have their full-step velocities, it tallies what they dissipated
+  void request_damping_tally(class BondWirenet *b) { damping_source = b; }
   // The elastic energy of this rank's bonds of each type (e[type], type 1..nbondtypes) at the
   // current step (global array column 1): set by the bond style whenever it tallies energies.
   void set_elastic_energy(const std::vector<double> &e);
@@ -119,6 +123,7 @@ class FixWirenetBonds : public Fix {
   double tally_sum(int k) const;
   void sync_tallies();  // the plastic-work tally brought up to the bonds' state
   bool pair_wanted;
+  class BondWirenet *damping_source;  // set for this step by request_damping_tally
   std::vector<double> pair_snap;  // [6 * nlocal]: f and torque
 
   int maxlocal;  // rows allocated in array_local (this rank's ruptures, for dump local)

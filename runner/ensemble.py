@@ -349,6 +349,12 @@ class _Checks:
             self.fail("ensemble.speed_range", f"{v['ensemble.speed_range']}: a range of speeds "
                                               "is for ensemble.speed = \"uniform\" (it is "
                                               f"{v['ensemble.speed']!r})")
+        cov = schema.BY_PATH["ensemble.speed_cov"]
+        if (v["ensemble.speed"] != "normal" and "ensemble.speed_cov" in self.case.stated
+                and v["ensemble.speed_cov"] != cov.default):
+            self.fail("ensemble.speed_cov", f"{v['ensemble.speed_cov']:g}: a coefficient of "
+                                            "variation of the speed is for ensemble.speed = "
+                                            f"\"normal\" (it is {v['ensemble.speed']!r})")
         if v["ensemble.speed"] == "uniform":
             lo, hi = v["ensemble.speed_range"]
             if not 0 < lo < hi:

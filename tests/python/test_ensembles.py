@@ -113,6 +113,19 @@ def test_bad_ensemble_keys_one_line_exit_2(tmp_path, setting, message):
     assert not (tmp_path / "out").exists()
 
 
+def test_a_speed_spread_without_a_speed_distribution_is_refused(tmp_path):
+    """A coefficient of variation of the speed with ensemble.speed = "fixed" would vary nothing:
+    refused, not ignored."""
+    path = tmp_path / "ens.toml"
+    path.write_text(CASE.format(members=3, seed=7))
+    p = run(tmp_path / "out", "--quick", "--set", 'ensemble.speed="fixed"', "--set",
+            "ensemble.speed_cov=0.1", target=path)
+    assert p.returncode == 2 and p.stderr.count("\n") == 1, p.stderr
+    assert "ensemble.speed_cov: 0.1: a coefficient of variation of the speed is for " \
+           "ensemble.speed = \"normal\" (it is 'fixed')" in p.stderr
+    assert not (tmp_path / "out").exists()
+
+
 def test_partitions_must_divide_the_ranks(tmp_path):
     path = tmp_path / "ens.toml"
     path.write_text(CASE.format(members=3, seed=7))

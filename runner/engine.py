@@ -175,7 +175,7 @@ _NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
 
 
 def run(deck, workdir, variables=None, np=1, total_steps=None, label="", dt=None,
-        phase_marker=None, then=None, marker_seen=None):
+        phase_marker=None, then=None, marker_seen=None, before=None):
     """Run the deck file in workdir with -var NAME VALUE pairs; show progress (step, simulated
     time, ETA) on long runs; raise with LIGGGHTS' ERROR line on failure. With phase_marker, the
     steps before the log line holding it are a preparation phase of unknown length (reported
@@ -184,7 +184,8 @@ def run(deck, workdir, variables=None, np=1, total_steps=None, label="", dt=None
     phase that may follow the counted steps for at most that many steps (a rest that ends when
     the motion has died down), reported as such; (name, steps, marker): the phase may start
     earlier, at the log line holding that marker (an impact that ends before its longest
-    duration), and the counted steps are then given as at most. A case of a study in
+    duration), and the counted steps are then given as at most. before = (name, steps): the
+    preparation phase by name, at most so many steps (a settling that ends once still). A case of a study in
     partition mode (use_partitions) runs as one partition of a shared mpirun instead
     (Partitions)."""
     workdir = Path(workdir).resolve()
@@ -200,7 +201,7 @@ def run(deck, workdir, variables=None, np=1, total_steps=None, label="", dt=None
     if current_label():
         label = f"{current_label()}: {label}"
     follow = dict(total=total_steps, label=label, dt=dt, phase_marker=phase_marker, then=then,
-                  marker_seen=marker_seen)
+                  marker_seen=marker_seen, before=before)
     pool = _PARTITIONS.get("pool")
     if pool is not None and pool.takes(current_label()):
         return pool.submit(_Request(deck, workdir, variables, current_label(), follow))
@@ -317,10 +318,13 @@ def _reap(proc, cases):
 class Progress:
     """Progress lines of a running deck from the thermo rows of its log: one line whenever the
     step has moved, with the ETA of the counted phase (after phase_marker, if given); steps
-    beyond it belong to the phase `then` = (name, at most so many steps), if given."""
+    beyond it belong to the phase `then` = (name, at most so many steps), if given; the steps
+    before the marker to the phase `before` = (name, at most so many steps), if given."""
 
-    def __init__(self, log, total, label, dt, phase_marker=None, then=None, marker_seen=None):
+    def __init__(self, log, total, label, dt, phase_marker=None, then=None, marker_seen=None,
+                 before=None):
         self.log, self.total, self.label, self.dt = log, total, label, dt
+        self.before = before
         self.marker, self.then, self.marker_seen = phase_marker, then, marker_seen
         self.phase_start = None if phase_marker else time.time()
         self.first_step = None if phase_marker else 0   # counted step seen at phase_start
@@ -363,7 +367,9 @@ class Progress:
             return
         self.last_step = (step, marked)
         if not marked:
-            print(f"    {self.label}: preparing (step {step})", file=sys.stderr, flush=True)
+            what = f"{self.before[0]}: step {step}/{self.before[1]} at most" if self.before \
+                else f"preparing (step {step})"
+            print(f"    {self.label}: {what}", file=sys.stderr, flush=True)
             return
         sim = f", t = {step * self.dt:.4g} s" if self.dt else ""
         if self.then and (step > self.total or self.early is not None):

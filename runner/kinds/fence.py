@@ -673,7 +673,8 @@ class Fence(CaseKind):
         wall = engine.run(INPUTS / "fence.in", workdir, variables, np=ctx.ranks,
                           total_steps=setup.steps, label="fence", dt=setup.dt,
                           phase_marker="impact: block released",
-                          then=("rest", setup.rest_steps, IMPACT_ENDED) if setup.rest_steps else None)
+                          then=("rest", setup.rest_steps, IMPACT_ENDED) if setup.rest_steps else None,
+                          before=None if variables.get("from_settled") else ("settling", setup.relax_steps))
         if not os.path.isfile(cached):
             keep_settled(os.path.join(workdir, "settled.restart"), cached)
         facts = self.write_outputs(setup, ctx.case_dir, workdir, read_table(workdir))

@@ -50,6 +50,16 @@ def test_steps_beyond_the_count_belong_to_the_following_phase(tmp_path, capsys):
     assert capsys.readouterr().err.strip() == "fence: rest: step 50/200 at most, t = 4.5 s"
 
 
+def test_a_named_preparation_phase_counts_its_steps_against_its_most(tmp_path, capsys):
+    """A fence that settles (at most 3000 steps, it ends once still) before its block is
+    released: the settling by name and its count, not 'preparing'."""
+    log = tmp_path / "log.lammps"
+    log.write_text(THERMO + "1200 10 0.1\n")
+    Progress(log, total=400, label="fence", dt=0.01, phase_marker="impact: block released",
+             before=("settling", 3000)).report()
+    assert capsys.readouterr().err.strip() == "fence: settling: step 1200/3000 at most"
+
+
 def test_a_deck_that_stops_before_its_end_marker_is_not_complete(tmp_path):
     """LIGGGHTS ends early and exits 0 when killed from outside (a forced restart); a deck that
     prints the end marker as its last line must have printed it, or the run is an error."""

@@ -241,41 +241,61 @@ def default_ranks():
     return value
 
 
+class Result:
+    """What a study left: its folder, summary (summary.json's content), the cases it ran and
+    those of them that are not sound (record.UNSOUND: name -> the case's summary entry)."""
+
+    def __init__(self, out, summary, names):
+        self.out, self.summary, self.names = out, summary, names
+        self.unsound = {n: s for n, s in report.all_cases(summary).items()
+                        if n in names and s["status"] in record.UNSOUND}
+
+
+def execute(target=None, out=None, quick=False, overrides=(), np_=None, partitions=None,
+            prepare=None):
+    """Run a study, a case or a case file (target; the default study if None) into ``out``
+    (default out/NAME) and write its report; return its Result. Raises StudyError (bad input,
+    before anything runs), CaseFileError, RunError (a case failed) or Interrupted. Paths are made
+    absolute at once: LIGGGHTS runs inside each case folder, where a relative path would point
+    elsewhere. ``prepare()``, when given, returns (out, files) instead of the target (the data
+    sheet writes its case files into the output folder: runner/datasheet.py)."""
+    np_ = default_ranks() if np_ is None else np_
+    _check_np(np_)
+    if prepare is None:
+        name, files = resolve_target(target or DEFAULT_STUDY)
+        given = out or os.path.join("out", name)
+        loaded, ensembles = expand_ensembles(load_cases(files, quick, overrides or ()),
+                                             os.path.abspath(given))
+        out = output_folder(given)
+    else:
+        out, files = prepare()
+        loaded, ensembles = expand_ensembles(load_cases(files, quick, ()), out)
+    check_partitions(loaded, np_, partitions)
+    with FolderLock(out):
+        for found in ensembles:
+            ensemble.write_manifest(out, found)
+        names = run_cases(loaded, out, quick, np_, partitions)
+        summary = report.build(out, expected=names)
+    return Result(out, summary, names)
+
+
 def run(args, prepare=None, after=None):
-    """``./wirenet run``. Paths are made absolute at once: LIGGGHTS runs inside each case
-    folder, where a relative path would point elsewhere. ``prepare(out)``, when given, returns
-    (name, files) instead of the target (the data sheet writes its case files into the output
-    folder: runner/datasheet.py); ``after(out, summary)`` runs once the report is written."""
+    """``./wirenet run``: execute() with the command line's arguments, its claims and report
+    printed; exit code 3 when a case is not sound, 2 on bad input, 128 + N on signal N.
+    ``after(out, summary)`` runs once the report is written."""
     previous = {s: signal.signal(s, _raise_interrupt) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
-        np_ = default_ranks() if args.np is None else args.np
-        _check_np(np_)
-        if prepare is None:
-            name, files = resolve_target(args.target or DEFAULT_STUDY)
-            given = args.out or os.path.join("out", name)
-            loaded, ensembles = expand_ensembles(load_cases(files, args.quick, args.set or ()),
-                                                 os.path.abspath(given))
-            out = output_folder(given)
-        else:
-            out, files = prepare()
-            loaded, ensembles = expand_ensembles(load_cases(files, args.quick, ()), out)
-        partitions = getattr(args, "partitions", None)
-        check_partitions(loaded, np_, partitions)
         start = time.time()
-        with FolderLock(out):
-            for found in ensembles:
-                ensemble.write_manifest(out, found)
-            names = run_cases(loaded, out, args.quick, np_, partitions)
-            summary = report.build(out, expected=names)
-        for claim in summary["claims"]:
+        result = execute(args.target, args.out, args.quick, args.set or (), args.np,
+                         getattr(args, "partitions", None), prepare)
+        for claim in result.summary["claims"]:
             print(f"claim {claim['id']}: {claim['verdict']}")
-        print(f"report: {os.path.join(out, 'report.md')} (wall time {time.time() - start:.0f} s)")
+        print(f"report: {os.path.join(result.out, 'report.md')} "
+              f"(wall time {time.time() - start:.0f} s)")
         if after is not None:
-            after(out, summary)
-        unsound = {n: s for n, s in report.all_cases(summary).items()
-                   if n in names and s["status"] in record.UNSOUND}
-        if unsound:
-            for n, s in unsound.items():
+            after(result.out, result.summary)
+        if result.unsound:
+            for n, s in result.unsound.items():
                 print(f"wirenet run: {n}: {s['status']}: {s['verdict']}", file=sys.stderr)
             sys.exit(3)
     except Interrupted as exc:

@@ -129,3 +129,38 @@ def test_two_successive_impacts(tmp_path):
     assert (second / "two_impacts_impact2.pvd").is_file()
     # the second block starts 0.3 m off-centre
     assert csv(second / "block.csv")["x"][0] == pytest.approx(0.3, abs=1e-9)
+
+
+def test_python_mass_sweep_compares_two_nets(tmp_path):
+    """docs/examples/mass_sweep.py (the Python API, doc/python_api.md): two sweeps of the block
+    mass, square and compound panel, under --quick (about 40 s): both studies' members are
+    cases of their own, the script's table is their summaries' numbers, and a heavier block
+    loads the supports of each net harder (momentum: the impulse grows with the mass)."""
+    env = dict(os.environ, WIRENET_SETUP="skip", WIRENET_BUILD=str(lmp.BUILD))
+    p = subprocess.run(["/usr/bin/python3", str(EXAMPLES / "mass_sweep.py"), str(tmp_path)],
+                       capture_output=True, text=True, env=env, timeout=1800, cwd=lmp.ROOT)
+    assert p.returncode == 0, p.stderr[-2000:]
+    assert (tmp_path / "mass_sweep.png").is_file()
+    rows = [line.split(" | ") for line in p.stdout.splitlines() if line[:1].isdigit()]
+    assert [float(r[0]) for r in rows] == [40.0, 60.0, 80.0]
+    for net, col in (("square", 1), ("compound", 2)):
+        peaks = [float(r[col]) for r in rows]
+        assert peaks[0] < peaks[1] < peaks[2], (net, peaks)
+        summary = json.loads((tmp_path / net / "summary.json").read_text())
+        means = [r["means"]["edge_force_peak"] / 1e3
+                 for r in summary["ensembles"][f"impact_{net}"]["sweep_rows"]]
+        assert np.allclose(means, peaks, rtol=1e-3)
+        for k in range(3):
+            member = tmp_path / net / f"impact_{net}" / f"member_{k:03d}"
+            assert meta(member)["status"] == "ok"
+
+
+def test_python_api_refuses_bad_input_with_an_exception(tmp_path):
+    """api.study raises (no SystemExit, no traceback printed, nothing written) on a bad key."""
+    import sys
+    sys.path.insert(0, str(lmp.ROOT))
+    from runner import api
+    from runner.errors import StudyError
+    with pytest.raises(StudyError, match="impact.mas: unknown key"):
+        api.study("impact_square", str(tmp_path / "out"), quick=True, set=["impact.mas=3"])
+    assert not (tmp_path / "out").exists()

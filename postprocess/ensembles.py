@@ -38,14 +38,15 @@ FENCE_OUTPUTS = (
 IMPACT_OUTPUTS = (
     Output("max_displacement", "max block travel", "m"),
     Output("peak_block_force", "peak block force", "kN", 1e3),
-    Output("edge_force_peak", "peak edge (support) force", "kN", 1e3),
+    Output("edge_force_peak", "peak support force (all supports)", "kN", 1e3),
+    Output("side_force_peak", "peak force on one edge", "kN", 1e3),
     Output("broken_bonds", "ruptures", "-"),
 )
 # the outputs of a sensitivity table and of the compound vs square comparison, per kind
 SENSITIVITY = {"fence": ("anchor_peak", "post_base_peak", "braking_distance", "residual_height"),
                "impact": ("peak_block_force", "edge_force_peak", "max_displacement")}
 COMPARED = {"fence": ("post_base_peak", "anchor_peak"),
-            "impact": ("edge_force_peak", "peak_block_force")}
+            "impact": ("edge_force_peak", "side_force_peak", "peak_block_force")}
 
 
 def _family_output(prefix, family, what):

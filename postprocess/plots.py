@@ -214,6 +214,49 @@ def figure_fence(case_dir, prefix, title=None, outputs=None):
     return save(fig, prefix, outputs)
 
 
+IMPACT_ENERGY = (("ke_block", "block kinetic"), ("ke_net", "net kinetic"),
+                 ("e_elastic", "bonds elastic"), ("w_plastic", "plastic"),
+                 ("e_released", "released at ruptures"), ("damping", "local damping"),
+                 ("bond_damping", "bond damping"), ("friction_block", "block friction"),
+                 ("contact_layers", "layer contacts"))
+EDGE_PARTS = ("left", "right", "bottom", "top", "corners")
+
+
+def figure_impact(case_dir, prefix, title=None, outputs=None):
+    """A panel impact (runner/kinds/impact.py): (a) the block's contact force, the sum of all
+    supports and each edge's and the corners' reaction over time (window means; block.csv,
+    edges.csv), (b) where the energy went (energy.csv; gravity terms left out)."""
+    plt = pyplot()
+    block = read_csv(os.path.join(case_dir, "block.csv"), required=("time", "force"))
+    edges = read_csv(os.path.join(case_dir, "edges.csv"), required=("time", "force"))
+    energy = read_csv(os.path.join(case_dir, "energy.csv"), required=("time",))
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5), layout="constrained")
+    parts = [p for p in EDGE_PARTS if f"{p}_force" in edges and np.any(edges[f"{p}_force"])]
+    series = [block["force"], edges["force"]] + [edges[f"{p}_force"] for p in parts]
+    scale, unit = force_scale(series)
+    axes[0].plot(block["time"], block["force"] / scale, color="k", label="block contact")
+    axes[0].plot(edges["time"], edges["force"] / scale, color="tab:red", lw=2,
+                 label="all supports (vector sum)")
+    for p in parts:
+        axes[0].plot(edges["time"], edges[f"{p}_force"] / scale, "--", label=f"{p} edge"
+                     if p != "corners" else "corners")
+    axes[0].set_xlabel("time [s]")
+    axes[0].set_ylabel(f"force [{unit}]")
+    axes[0].set_title("(a) block contact and support reactions")
+    axes[0].legend(fontsize="x-small")
+    e0 = float(energy["total"][0]) if "total" in energy else 1.0
+    for key, label in IMPACT_ENERGY:
+        if key in energy and np.max(np.abs(energy[key])) > 1e-3 * abs(e0):
+            axes[1].plot(energy["time"], energy[key] / 1e3, label=label)
+    axes[1].set_xlabel("time [s]")
+    axes[1].set_ylabel("energy [kJ]")
+    axes[1].set_title("(b) energy by component")
+    axes[1].legend(fontsize="small")
+    if title:
+        fig.suptitle(title)
+    return save(fig, prefix, outputs)
+
+
 def figure_tensile(case_dir, prefix, title=None, outputs=None):
     """A tensile case (runner/kinds/tensile.py, doc/tensile.md): the force on the moving clamp
     and the fixed clamp's reaction against the clamp's travel (tensile.csv), the peak and the
@@ -299,14 +342,15 @@ def _study_figures(directory, cases, outputs, summaries):
                         for c, _ in series}
             written[name] = figure_zone(series, os.path.join(out, name), x, families, title,
                                         ruptures, outputs)
-    # one figure per fence case and per tensile case that wrote its table
-    for kind, figure, table in (("fence", figure_fence, None),
-                                ("tensile", figure_tensile, "tensile.csv")):
+    # one figure per fence, panel impact and tensile case that wrote its table
+    for kind, figure, table, stem in (("fence", figure_fence, None, "fence"),
+                                      ("impact", figure_impact, "edges.csv", "history"),
+                                      ("tensile", figure_tensile, "tensile.csv", "tensile")):
         for case in cases.values():
             if case.kind != kind or not case.usable or (
                     table and not os.path.isfile(os.path.join(case.path, table))):
                 continue
-            name = f"{kind}_{case.name}"
+            name = f"{stem}_{case.name}"
             try:
                 written[name] = figure(case.path, os.path.join(out, name),
                                        case.meta.get("title") or case.name, outputs)

@@ -182,6 +182,7 @@ def dissipation_rows(summaries):
                 "momentum_error": facts.get("momentum_error"),
                 "peak_block_force": facts.get("peak_block_force"),
                 "edge_force_peak": facts.get("edge_force_peak"),
+                "side_force_peak": facts.get("side_force_peak"),
                 "braking_distance": facts.get("max_displacement"),
                 "peak_zone_total": {f: z["peak_total_tension"]
                                     for f, z in (s.get("zone") or {}).items()}})
@@ -310,12 +311,13 @@ def _dissipation_lines(rows, verdicts):
     mechanisms = list(dict.fromkeys(k for r in rows for k in r["mechanisms"]))
     lines += _table(["case", "model", "mode", "E0 [J]"] + [f"{m} / E0" for m in mechanisms] +
                     ["closure", "momentum", "peak block force [N]", "peak support force [N]",
-                     "braking distance [m]", "peak zone total per family [N]"],
+                     "peak edge force [N]", "braking distance [m]",
+                     "peak zone total per family [N]"],
                     [[r["case"], r["model"], r["mode"], fmt(r["initial_energy"])] +
                      [_percent(r["fractions"].get(m)) for m in mechanisms] +
                      [_percent(r["closure_error"]), _percent(r["momentum_error"]),
                       fmt(r["peak_block_force"]), fmt(r["edge_force_peak"]),
-                      fmt(r["braking_distance"]),
+                      fmt(r["side_force_peak"]), fmt(r["braking_distance"]),
                       ", ".join(f"{f} {fmt(v)}" for f, v in r["peak_zone_total"].items())]
                      for r in rows])
     names = list(verdicts)
@@ -335,7 +337,10 @@ DISSIPATION_NOTE = (
     "conserves momentum) take the energy, and the supports carry all of the block's momentum. "
     "Local (Cundall) damping acts on each node's absolute motion, like a force to ground: under "
     "the paper's model it takes most of the energy and the supports feel less of the block's "
-    "momentum.")
+    "momentum. The peak support force is the vector sum of all supports (the net force on the "
+    "frame: the block's impulse); the peak edge force is the largest load on one edge (what "
+    "that edge's support is sized for: opposite edges pull against each other, and the sum "
+    "cancels that; edges.csv holds each edge's and the corners' reaction over time).")
 
 
 def _bending_lines(summaries):

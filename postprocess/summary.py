@@ -74,6 +74,8 @@ def case_summary(case):
                              "max_displacement": case.meta.get("max_displacement"),
                              "rebound_time": case.meta.get("rebound_time"),
                              "edge_force_peak": case.meta.get("edge_force_peak"),
+                             "side_force_peak": case.meta.get("side_force_peak"),
+                             "support_peaks": case.meta.get("support_peaks"),
                              "peak_block_force": case.meta.get("peak_block_force")}
     if case.kind == "fence":
         summary["fence"] = fence_summary(case.meta)

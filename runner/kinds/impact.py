@@ -22,7 +22,7 @@ import numpy as np
 from postprocess.csvio import read_deck_table, write_csv
 from postprocess.meta import PanelInfo
 
-from .. import INPUTS, budget, dissipation, engine, netoutputs, timestep
+from .. import INPUTS, budget, dissipation, engine, netoutputs, supports, timestep
 from ..budget import Term
 from ..errors import RunError
 from postprocess import record
@@ -178,7 +178,7 @@ def read_table(workdir):
         {c for t in BUDGET for c in t.columns} | {
             "step", "time", "x", "y", "z", "vx", "vy", "vz", "force_mean", "rx_mean", "ry_mean",
             "rz_mean", "px_net", "py_net", "pz_net", "jx_damp", "jy_damp", "jz_damp",
-            "contacts"}))
+            "contacts"} | {f"r{c}_{p}_mean" for p in supports.PARTS for c in "xyz"}))
 
 
 def block_verdict(table, broken):
@@ -318,8 +318,16 @@ class Impact(CaseKind):
                                                         "force"),
                   zip(time_, t["x"], t["y"], t["z"], t["vx"], t["vy"], t["vz"], t["force_mean"]))
         edge = np.sqrt(t["rx_mean"] ** 2 + t["ry_mean"] ** 2 + t["rz_mean"] ** 2)
-        write_csv(os.path.join(case_dir, "edges.csv"), ("time", "rx", "ry", "rz", "force"),
-                  zip(time_, t["rx_mean"], t["ry_mean"], t["rz_mean"], edge))
+        # each edge's and the corners' reaction: the loads a designer sizes the supports for
+        # (the total above cancels the pulls of opposite edges)
+        part = {p: np.column_stack([t[f"r{c}_{p}_mean"] for c in "xyz"]) for p in supports.PARTS}
+        part_force = {p: np.linalg.norm(r, axis=1) for p, r in part.items()}
+        columns = ["time", "rx", "ry", "rz", "force"]
+        values = [time_, t["rx_mean"], t["ry_mean"], t["rz_mean"], edge]
+        for p in supports.PARTS:
+            columns += [f"{p}_rx", f"{p}_ry", f"{p}_rz", f"{p}_force"]
+            values += [part[p][:, 0], part[p][:, 1], part[p][:, 2], part_force[p]]
+        write_csv(os.path.join(case_dir, "edges.csv"), columns, zip(*values))
         terms, total, e0, error = budget.energy_budget(t, BUDGET)
         names = tuple(term.name for term in BUDGET)
         write_csv(os.path.join(case_dir, "energy.csv"), ("time",) + names + ("total", "closure_error"),
@@ -361,6 +369,10 @@ class Impact(CaseKind):
             energy=closure, momentum=momentum,
             edge_force_peak=float(edge[k_edge]), time_of_edge_force_peak=float(time_[k_edge]),
             edge_force_peak_z=float(np.max(np.abs(t["rz_mean"]))),
+            support_peaks={p: dict(force=float(f.max()), time=float(time_[int(np.argmax(f))]),
+                                   force_z=float(np.max(np.abs(part[p][:, 2]))))
+                           for p, f in part_force.items()},
+            side_force_peak=max(float(part_force[p].max()) for p in supports.EDGES),
             peak_block_force=float(t["force_mean"][k_force]),
             time_of_peak_block_force=float(time_[k_force]),
             max_displacement=float(t["z"][0] - t["z"][k_low]),

@@ -250,26 +250,35 @@ def test_paper_supports_are_hold_in():
     assert supports.render_unfix(supports.PAPER) == (include / "unfix_supports.in").read_text()
 
 
-def test_supports_share_fixes_hold_the_union_at_corners_and_sum_held_components_only():
+def test_supports_have_a_fix_per_edge_hold_the_union_at_corners_and_sum_held_components_only():
     text = supports.render(dict(left="pinned", right="free", bottom="sliding", top="free"))
-    # pinned left with its two corners (pinned + free, pinned + sliding) in one fix, the sliding
-    # bottom with its free-side corner in another; the free right and top edges in none
-    assert "group           hold_1 union left corner_lb corner_lt\n" in text
-    assert "fix             hold_1 hold_1 wirenet/hold 0 0 0 mean ${every}\n" in text
-    assert "group           hold_2 union bottom corner_rb\n" in text
-    assert "fix             hold_2 hold_2 wirenet/hold NULL 0 0 mean ${every}\n" in text
-    assert text.count("\nfix ") == 2
-    assert "variable        rx equal f_hold_1[1]\n" in text
-    assert "variable        ry equal f_hold_1[2]+f_hold_2[2]\n" in text
-    assert "variable        ry_mean equal f_hold_1[5]+f_hold_2[5]\n" in text
-    # the groups edges.in already has are used as they are: one fix for four pinned edges
+    # a fix per held edge (its load is an output); the corners by what they hold: the pinned
+    # left edge's two (pinned + free, pinned + sliding) in one, the sliding bottom's free-side
+    # corner in another; the free right and top edges and their common corner in none
+    assert "fix             hold_left left wirenet/hold 0 0 0 mean ${every}\n" in text
+    assert "fix             hold_bottom bottom wirenet/hold NULL 0 0 mean ${every}\n" in text
+    assert "group           hold_corners_1 union corner_lb corner_lt\n" in text
+    assert "fix             hold_corners_1 hold_corners_1 wirenet/hold 0 0 0 mean ${every}\n" in text
+    assert "fix             hold_corners_2 corner_rb wirenet/hold NULL 0 0 mean ${every}\n" in text
+    assert text.count("\nfix ") == 4
+    assert "variable        rx equal f_hold_left[1]+f_hold_corners_1[1]\n" in text
+    assert "variable        ry_mean equal f_hold_left[5]+f_hold_bottom[5]+f_hold_corners_1[5]+" \
+           "f_hold_corners_2[5]\n" in text
+    # each part's window mean, 0 for what a part does not hold
+    assert "variable        ry_left_mean equal f_hold_left[5]\n" in text
+    assert "variable        rx_bottom_mean equal 0\n" in text
+    assert "variable        rz_right_mean equal 0\n" in text
+    assert "variable        rz_corners_mean equal f_hold_corners_1[6]+f_hold_corners_2[6]\n" in text
+    # the corner group edges.in already has is used as it is
     pinned = supports.render({e: "pinned" for e in supports.EDGES})
-    assert "fix             hold_1 edge wirenet/hold 0 0 0 mean ${every}\n" in pinned and "group  " not in pinned
+    assert "fix             hold_corners corner wirenet/hold 0 0 0 mean ${every}\n" in pinned \
+        and "group  " not in pinned and pinned.count("\nfix ") == 5
     free = supports.render({e: "free" for e in supports.EDGES})
     assert "\nfix " not in free and "variable        rz equal 0\n" in free \
-        and "variable        rz_mean equal 0\n" in free
+        and "variable        rz_mean equal 0\n" in free and "variable        rz_top_mean equal 0\n" in free
     assert supports.render_unfix(dict(left="pinned", right="free", bottom="sliding", top="free")) \
-        .splitlines()[1:] == ["unfix           hold_1", "unfix           hold_2"]
+        .splitlines()[1:] == ["unfix           hold_left", "unfix           hold_bottom",
+                              "unfix           hold_corners_1", "unfix           hold_corners_2"]
 
 
 def _held(node_edges, chosen):

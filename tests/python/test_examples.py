@@ -53,7 +53,8 @@ def test_yade_punch_test(tmp_path):
     assert m["gravity"] == 0.0 and m["mass_scale"] == 1.0 and m["speed"] == 0.5
     assert m["preload"]["iterations"] == 0 and m["preload"]["centre_sag"] == 0.0
     supports = (case / "setup" / "supports.in").read_text()
-    assert "fix             hold_1 edge wirenet/hold 0 0 0 mean ${every}" in supports   # one fix holds them all
+    assert "fix             hold_left left wirenet/hold 0 0 0 mean ${every}" in supports
+    assert "fix             hold_corners corner wirenet/hold 0 0 0 mean ${every}" in supports
     # the sphere pushes the full quick travel and the force grows with it
     table = csv(case / "platter.csv")
     assert 0.03 - 0.004 < m["reached"] <= 0.03     # the last 2 mm output window, mean position

@@ -259,7 +259,8 @@ def test_outputs(square):
             ("block.csv", "zone_forces.csv", "edges.csv", "ruptures.csv", "momentum.csv")}
     assert head["block.csv"] == "time,x,y,z,vx,vy,vz,force"
     assert head["zone_forces.csv"] == "time,displacement,family,total_tension,max_tension,bonds"
-    assert head["edges.csv"] == "time,rx,ry,rz,force"
+    assert head["edges.csv"].startswith("time,rx,ry,rz,force,left_rx,left_ry,left_rz,left_force,")
+    assert head["edges.csv"].endswith(",corners_rx,corners_ry,corners_rz,corners_force")
     assert head["ruptures.csv"] == "time,atom1,atom2,type,family,x,y,z,elongation"
     edges = np.loadtxt(folder / "edges.csv", delimiter=",", skiprows=1)
     assert facts["edge_force_peak"] == pytest.approx(edges[:, 4].max(), rel=1e-12)
@@ -267,6 +268,29 @@ def test_outputs(square):
     block = np.loadtxt(folder / "block.csv", delimiter=",", skiprows=1)
     assert block[0, 6] == pytest.approx(-10.0, abs=0.01) and block[-1, 6] > 0
     assert facts["broken_bonds"] == 0      # strand ropes are elastic
+
+
+def test_edge_loads_add_up_to_the_total_and_mirror_across_the_panel(square):
+    """edges.csv's parts (four edges, the corners) are the hold fixes' own reactions: they add up
+    to the total to round-off; the block hits the middle of a square panel, so opposite edges
+    pull inwards alike (their in-plane pulls cancel in the total, which is why the per-edge
+    load is the design load) and carry the same vertical load (the generated mesh and the
+    settling are symmetric to a few percent)."""
+    folder, facts = square
+    e = np.genfromtxt(folder / "edges.csv", delimiter=",", names=True)
+    parts = ("left", "right", "bottom", "top", "corners")
+    for c in ("rx", "ry", "rz"):
+        total = sum(e[f"{p}_{c}"] for p in parts)
+        assert np.allclose(total, e[c], rtol=1e-9, atol=1e-9 * np.abs(e[c]).max())
+    k = int(np.argmax(e["left_force"]))
+    pull = abs(e["left_rx"][k])
+    assert pull > 0.2 * e["left_force"][k]                  # an edge is pulled in, not only down
+    assert abs(e["left_rx"][k] + e["right_rx"][k]) < 0.1 * pull    # and mirrored by the other
+    for a, b in (("left", "right"), ("bottom", "top")):
+        assert facts["support_peaks"][a]["force"] == pytest.approx(
+            facts["support_peaks"][b]["force"], rel=0.1)
+    assert facts["side_force_peak"] == max(facts["support_peaks"][p]["force"] for p in parts[:4])
+    assert facts["side_force_peak"] == pytest.approx(max(e[f"{p}_force"].max() for p in parts[:4]))
 
 
 def test_bad_impact_arguments(tmp_path):

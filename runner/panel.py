@@ -21,6 +21,16 @@ GENERATOR_OPTIONS = (
     ("panel.hex_node_mass", {"hex": "--node-mass", "compound": "--hex-node-mass"}),
     ("panel.square_node_radius", {"square": "--node-radius", "compound": "--square-node-radius"}),
     ("panel.rope_mass", {"square": "--rope-mass", "compound": "--rope-mass"}),
+    ("panel.axis_distance", {"hex": "--axis-distance", "compound": "--axis-distance"}),
+    ("panel.twist_length", {"hex": "--twist-length", "compound": "--twist-length"}),
+    ("panel.rise", {"hex": "--rise", "compound": "--rise"}),
+    ("panel.cell", {"square": "--cell", "compound": "--cell"}),
+    ("panel.rope_elements", {"square": "--elements", "compound": "--elements"}),
+    # the diameters size the generated net (node spheres, the 'wire' node mass, its metadata) as
+    # they size the bonds (materials.in)
+    ("materials.wire_d", {"hex": "--wire-diameter", "compound": "--wire-diameter"}),
+    ("materials.selvedge_d", {"hex": "--selvedge-diameter", "compound": "--selvedge-diameter"}),
+    ("materials.rope_d", {"square": "--rope-diameter", "compound": "--rope-diameter"}),
 )
 
 

@@ -60,6 +60,20 @@ COMMON = [
         "0: the rope's radius", GENERATOR, low=0.0, high=0.1),
     Key("panel.rope_mass", "number", 0.4, "kg/m", "strand-rope mass per metre, lumped to the "
         "square mesh's nodes", GENERATOR, low=0.01, high=20.0),
+    # the mesh product (wirenet-gen's options; materials.wire_d, selvedge_d and rope_d size the
+    # generated net as they size its bonds)
+    Key("panel.axis_distance", "number", 0.08, "m", "hex mesh: distance between neighbouring "
+        "twist axes, the mesh size D of EN 10223-3 (the 80 of an 8x10 mesh)", "Thoeni et al. "
+        "(2013), Pol et al. (2017): the 8x10 mesh (" + GENERATOR + ")", low=0.01, high=0.5),
+    Key("panel.twist_length", "number", 0.04, "m", "hex mesh: length of a double twist (along "
+        "y)", "Thoeni et al. (2013) (" + GENERATOR + ")", low=0.005, high=0.5),
+    Key("panel.rise", "number", 0.04, "m", "hex mesh: y-distance a single-wire bond spans (row "
+        "pitch = twist_length + rise; 0.03 makes the opening 100 mm vertex to vertex)",
+        "Thoeni et al. (2013) (" + GENERATOR + ")", low=0.005, high=0.5),
+    Key("panel.cell", "number", 0.3, "m", "square mesh: rope spacing (cell side)",
+        PAPER + ", Table 1 (Bonati et al. 2004)", low=0.02, high=5.0),
+    Key("panel.rope_elements", "integer", 3, "", "square mesh: beam elements per cell side",
+        "numerical (" + GENERATOR + ")", low=1, high=50),
     # --- supports ----------------------------------------------------------------------------
     *[Key(f"supports.{edge}", "choice", "sliding", "", f"support of the {edge} edge "
           f"({where}): pinned (held in x, y, z), sliding (held across the edge line and in z, "

@@ -78,6 +78,27 @@ def _part(name, type_, unit, doc, **kw):
     return _fence(name, type_, default, unit, doc, SOURCES[name], **kw)
 
 
+# case key -> wirenet-gen fence option (passed when the value differs from the key's default)
+FENCE_OPTIONS = (("fence.support_rope_d", "--support-rope-diameter"),
+                 ("fence.upslope_rope_d", "--upslope-rope-diameter"),
+                 ("fence.anchor_distance", "--anchor-distance"),
+                 ("fence.bottom_anchor_distance", "--bottom-anchor-distance"),
+                 ("fence.upslope_distance", "--upslope-distance"),
+                 ("fence.brakes", "--brakes"), ("fence.upslope_brakes", "--upslope-brakes"),
+                 ("fence.post_area", "--post-area"), ("fence.post_iy", "--post-iy"),
+                 ("fence.post_iz", "--post-iz"), ("fence.post_j", "--post-j"),
+                 ("fence.post_width", "--post-node-diameter"))
+
+
+def fence_options(case):
+    """wirenet-gen fence options of the case's make-up keys that differ from their defaults."""
+    options = []
+    for path, option in FENCE_OPTIONS:
+        if case[path] != case.keys[path].default:
+            options += [option, case[path]]
+    return options
+
+
 def floor_damping(restitution, kn, mass):
     """gamma_n [1/s] of fix wirenet/body's floor (F = kn d - gamma_n M v_n) that gives a body of
     this mass the coefficient of restitution: the damped linear oscillator's
@@ -157,6 +178,36 @@ KEYS = (
     _part("shackle_mu", "number", "", "friction of a shackle sliding on its rope", low=0.0,
           high=2.0),
     _part("post_E", "number", "Pa", "Young's modulus of the post steel", low=1e8, high=1e12),
+    # the fence's make-up (wirenet-gen fence's options, passed when they differ from these
+    # defaults, which are the generator's: doc/wirenet-gen.md, "fence"; generators/src/Fence.h)
+    _fence("support_rope_d", "number", 0.022, "m", "diameter of the top and bottom support "
+           "ropes", "unverified: 22 mm ropes of 500 kJ kits (manufacturers' kit sheets, not "
+           "read)", low=0.004, high=0.1),
+    _fence("upslope_rope_d", "number", 0.022, "m", "diameter of the upslope ropes",
+           "unverified: as fence.support_rope_d", low=0.004, high=0.1),
+    _fence("anchor_distance", "number", 5.0, "m", "the top rope's lateral anchors beyond the "
+           "end posts, on the ground", "none: a design choice of this test fence", low=0.5,
+           high=50.0),
+    _fence("bottom_anchor_distance", "number", 2.5, "m", "the bottom rope's lateral anchors "
+           "beyond the end posts", "none: a design choice of this test fence", low=0.5,
+           high=50.0),
+    _fence("upslope_distance", "number", 10.0, "m", "upslope anchors behind the posts",
+           "none: a design choice of this test fence", low=1.0, high=50.0),
+    _fence("brakes", "integer", 1, "", "brakes in each support rope next to each lateral "
+           "anchor (0: none)", "none: a design choice of this test fence", low=0, high=10),
+    _fence("upslope_brakes", "integer", 1, "", "brakes in each upslope rope next to its anchor "
+           "(0: none)", "none: a design choice of this test fence", low=0, high=10),
+    _fence("post_area", "number", 0.005383, "m2", "post section area", "EN 10365:2017 (HEA "
+           "200)", low=1e-5, high=0.1),
+    _fence("post_iy", "number", 3.692e-05, "m4", "post second moment about the strong axis "
+           "(along the fence)", "EN 10365:2017 (HEA 200)", low=1e-9, high=0.01),
+    _fence("post_iz", "number", 1.336e-05, "m4", "post second moment about the weak axis "
+           "(upslope)", "EN 10365:2017 (HEA 200)", low=1e-9, high=0.01),
+    _fence("post_j", "number", 2.098e-07, "m4", "post torsion constant", "EN 10365:2017 (HEA "
+           "200)", low=1e-10, high=0.01),
+    _fence("post_width", "number", 0.2, "m", "post width, the contact sphere of the post's "
+           "nodes (the flange width)", "EN 10365:2017 (HEA 200: b = 200 mm)", low=0.02,
+           high=2.0),
     # the block on the ground (not the settling's: var None, passed by Setup.variables)
     _part("ground_kn", "number", "N/m", "normal stiffness of the block's contact with the "
           "ground (tangential: a tenth of it)", low=1.0, high=1e12, var=None),
@@ -303,7 +354,8 @@ class Setup:
         self.data_path = generate(
             "fence", prefix, "--modules", c["fence.modules"], "--spacing", c["fence.spacing"],
             "--height", c["fence.height"], "--net", net, "--post-tilt", c["fence.post_tilt"],
-            "--head-guides", c["fence.head_guides"], *generator_options(c, "compound"))
+            "--head-guides", c["fence.head_guides"], *generator_options(c, "compound"),
+            *fence_options(c))
         self.json_path, self.shackles = prefix + ".json", prefix + ".shackles"
         self.types_path = prefix + ".types.in"
         self.meta = read_json(self.json_path)
@@ -625,8 +677,9 @@ class Fence(CaseKind):
     keys = KEYS
     takes = ("title", "gravity", "panel.net", "panel.placement", "panel.selvedge",
              "panel.hex_node_radius", "panel.hex_node_mass", "panel.square_node_radius",
-             "panel.rope_mass", "materials.*", "contact.kn", "contact.ks", "contact.mu",
-             "damping.*", "fence.*", "output.frames", "output.budget_tolerance", "ensemble.*")
+             "panel.rope_mass", "panel.axis_distance", "panel.twist_length", "panel.rise",
+             "panel.cell", "panel.rope_elements", "materials.*", "contact.kn", "contact.ks",
+             "contact.mu", "damping.*", "fence.*", "output.frames", "output.budget_tolerance", "ensemble.*")
     # a penalty 100x softer than the paper's 1e9 N/m, so that the block's contact does not set
     # the step on 4 g hex nodes: a wire's breaking force (~3 kN) overlaps it by ~0.3 mm against
     # node radii of 5 mm (doc/fence.md); the physical model of the impacts (doc/impact.md)

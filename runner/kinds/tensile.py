@@ -170,7 +170,9 @@ class Tensile(CaseKind):
     keys = KEYS
     takes = ("title", "gravity", "panel.net", "panel.width", "panel.height", "panel.placement",
              "panel.selvedge", "panel.hex_node_radius", "panel.hex_node_mass",
-             "panel.square_node_radius", "panel.rope_mass", "materials.*", "contact.kn",
+             "panel.square_node_radius", "panel.rope_mass", "panel.axis_distance",
+             "panel.twist_length", "panel.rise", "panel.cell", "panel.rope_elements",
+             "materials.*", "contact.kn",
              "contact.ks", "contact.mu", "damping.*", "tensile.*", "output.row_travel",
              "output.dump_rows", "output.frames")
     # no gravity (a test rig's strip lies in its frame); the local damping of YADE's example

@@ -7,6 +7,7 @@ import math
 import os
 import subprocess
 
+import numpy as np
 import pytest
 
 import lmp
@@ -220,6 +221,16 @@ def test_fence_defaults_and_contact(tmp_path, monkeypatch):
     what, options = calls[0]
     assert what == "fence" and list(options[-2:]) == ["--hex-node-mass", 0.005]
     assert options[options.index("--net") + 1] == "hex"
+    # the fence's make-up (issue #42): only what differs from the defaults goes to the generator
+    calls.clear()
+    case = check('kind = "fence"\n[panel]\ncell = 0.25\n[fence]\nsupport_rope_d = 0.024\n'
+                 'brakes = 2\npost_iy = 5e-5\n')
+    with pytest.raises(Generated):
+        fence.Setup(kinds.of(case), str(tmp_path), 0.05)
+    options = list(calls[0][1])
+    tail = options[options.index("--head-guides") + 2:]
+    assert tail == ["--cell", 0.25, "--support-rope-diameter", 0.024, "--brakes", 2,
+                    "--post-iy", 5e-5]
 
 
 def test_shipped_case_files_check():
@@ -473,3 +484,25 @@ def test_missing_previous_net_is_named(tmp_path):
     with pytest.raises(RunError, match="no net from the previous impact"):
         impact.Setup(kinds.of(case), str(tmp_path), case.impacts[0], 0.05,
                      restart=str(tmp_path / "net.restart"))
+
+
+def test_product_keys_shape_the_generated_net(tmp_path, monkeypatch):
+    """The mesh product of a case file (issue #42) reaches wirenet-gen: a compound panel with a
+    10x12 hex mesh (axis distance 0.1 m), a 0.25 m square cell of 12 mm ropes in 5 elements:
+    its JSON and data file say so (cell, element length, node spheres the rope's diameter, the
+    twist rows' pitch); the defaults pass no option at all (the generator's default net)."""
+    from runner import panel
+    monkeypatch.setenv("WIRENET_BUILD", str(lmp.BUILD))
+    assert panel.generator_options(check('kind = "impact"\n[panel]\nnet = "compound"\n'),
+                                   "compound") == []
+    case = check('kind = "impact"\n[panel]\nnet = "compound"\nwidth = 1.0\nheight = 1.0\n'
+                 'axis_distance = 0.1\ntwist_length = 0.05\nrise = 0.045\ncell = 0.25\n'
+                 'rope_elements = 5\n[materials]\nrope_d = 0.012\n')
+    made = panel.Panel(case, str(tmp_path))
+    square = made.meta["cells"]["square"]
+    assert square["cell"] == 0.25 and square["elements_per_side"] == 5
+    assert square["element_length"] == pytest.approx(0.05)
+    hex_ = made.meta["cells"]["hex"]
+    assert hex_["axis_distance"] == 0.1 and hex_["twist_length"] == 0.05 and hex_["rise"] == 0.045
+    d = made.data.atom("diameter")
+    assert np.isclose(d, 0.012).sum() > 0                # the square layer's nodes: the rope's

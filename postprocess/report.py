@@ -181,6 +181,8 @@ def dissipation_rows(summaries):
                 "closure_error": facts.get("closure_error"),
                 "momentum_error": facts.get("momentum_error"),
                 "peak_block_force": facts.get("peak_block_force"),
+                "peak_block_force_windowed": facts.get("peak_block_force_windowed"),
+                "force_window": facts.get("force_window"),
                 "edge_force_peak": facts.get("edge_force_peak"),
                 "side_force_peak": facts.get("side_force_peak"),
                 "braking_distance": facts.get("max_displacement"),
@@ -310,13 +312,14 @@ def _dissipation_lines(rows, verdicts):
     lines = ["", "## Dissipation models side by side", "", DISSIPATION_NOTE, ""]
     mechanisms = list(dict.fromkeys(k for r in rows for k in r["mechanisms"]))
     lines += _table(["case", "model", "mode", "E0 [J]"] + [f"{m} / E0" for m in mechanisms] +
-                    ["closure", "momentum", "peak block force [N]", "peak support force [N]",
+                    ["closure", "momentum", "peak block force [N]",
+                     "block force, windowed peak [N]", "peak support force [N]",
                      "peak edge force [N]", "braking distance [m]",
                      "peak zone total per family [N]"],
                     [[r["case"], r["model"], r["mode"], fmt(r["initial_energy"])] +
                      [_percent(r["fractions"].get(m)) for m in mechanisms] +
                      [_percent(r["closure_error"]), _percent(r["momentum_error"]),
-                      fmt(r["peak_block_force"]), fmt(r["edge_force_peak"]),
+                      fmt(r["peak_block_force"]), _windowed(r), fmt(r["edge_force_peak"]),
                       fmt(r["side_force_peak"]), fmt(r["braking_distance"]),
                       ", ".join(f"{f} {fmt(v)}" for f, v in r["peak_zone_total"].items())]
                      for r in rows])
@@ -329,6 +332,13 @@ def _dissipation_lines(rows, verdicts):
     return lines
 
 
+def _windowed(row):
+    """The block force's windowed peak and its window, e.g. '8.45e+04 (5 ms)'."""
+    if row.get("peak_block_force_windowed") is None:
+        return "-"
+    return f"{fmt(row['peak_block_force_windowed'])} ({row['force_window'] * 1e3:.3g} ms)"
+
+
 DISSIPATION_NOTE = (
     "The same impacts under each dissipation model (doc/impact.md, \"Dissipation\"): the "
     "energy each mechanism dissipated by the end of the impact, as fractions of the initial "
@@ -337,7 +347,10 @@ DISSIPATION_NOTE = (
     "conserves momentum) take the energy, and the supports carry all of the block's momentum. "
     "Local (Cundall) damping acts on each node's absolute motion, like a force to ground: under "
     "the paper's model it takes most of the energy and the supports feel less of the block's "
-    "momentum. The peak support force is the vector sum of all supports (the net force on the "
+    "momentum. The peak block force is the largest mean over one output row (0.2 ms), the "
+    "windowed peak the largest mean over output.force_window (the contact's plateau without "
+    "the first touch's spike; case.json also holds the largest sampled value, "
+    "peak_block_force_raw). The peak support force is the vector sum of all supports (the net force on the "
     "frame: the block's impulse); the peak edge force is the largest load on one edge (what "
     "that edge's support is sized for: opposite edges pull against each other, and the sum "
     "cancels that; edges.csv holds each edge's and the corners' reaction over time).")

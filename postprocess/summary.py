@@ -76,7 +76,11 @@ def case_summary(case):
                              "edge_force_peak": case.meta.get("edge_force_peak"),
                              "side_force_peak": case.meta.get("side_force_peak"),
                              "support_peaks": case.meta.get("support_peaks"),
-                             "peak_block_force": case.meta.get("peak_block_force")}
+                             "peak_block_force": case.meta.get("peak_block_force"),
+                             "peak_block_force_raw": case.meta.get("peak_block_force_raw"),
+                             "peak_block_force_windowed":
+                                 case.meta.get("peak_block_force_windowed"),
+                             "force_window": case.meta.get("force_window")}
     if case.kind == "fence":
         summary["fence"] = fence_summary(case.meta)
     if isinstance(case.meta.get("quasi_static"), dict):

@@ -70,6 +70,10 @@ KEYS = (
           choices=("analytic", "mesh"), var="body_model"),
     Key("output.row_time", "number", 2e-4, "s", "time between rows of impact.csv, block.csv, "
         "energy.csv and momentum.csv", "WireNet (runner/kinds/impact.py)", low=1e-7, high=1.0),
+    Key("output.force_window", "number", 5e-3, "s", "window of the block force's windowed peak "
+        "(peak_block_force_windowed: the largest mean over this long; the first touch of the "
+        "node spheres is a spike of a fraction of a millisecond above the contact's plateau)",
+        "WireNet (runner/kinds/impact.py)", low=0.0, low_open=True, high=1.0),
 )
 
 # The energy budget of an impact: each term from its own mechanism (inputs/impact.in)
@@ -178,7 +182,21 @@ def read_table(workdir):
         {c for t in BUDGET for c in t.columns} | {
             "step", "time", "x", "y", "z", "vx", "vy", "vz", "force_mean", "rx_mean", "ry_mean",
             "rz_mean", "px_net", "py_net", "pz_net", "jx_damp", "jy_damp", "jz_damp",
-            "contacts"} | {f"r{c}_{p}_mean" for p in supports.PARTS for c in "xyz"}))
+            "contacts", "force"} | {f"r{c}_{p}_mean" for p in supports.PARTS for c in "xyz"}))
+
+
+def windowed_peak(time_, force_mean, window):
+    """The block force's largest mean over ``window`` seconds (the rows' window means averaged
+    over the rows that span it), the middle of that window and the window as the rows make it:
+    the contact's plateau, not the first touch's spike."""
+    rows = max(int(round(window / (time_[1] - time_[0]))), 1) if len(time_) > 1 else 1
+    rows = min(rows, len(force_mean))
+    sums = np.cumsum(np.r_[0.0, force_mean])
+    means = (sums[rows:] - sums[:-rows]) / rows
+    k = int(np.argmax(means))
+    return dict(peak_block_force_windowed=float(means[k]),
+                time_of_peak_block_force_windowed=float(0.5 * (time_[k] + time_[k + rows - 1])),
+                force_window=float(rows * (time_[1] - time_[0]) if len(time_) > 1 else window))
 
 
 def block_verdict(table, broken):
@@ -225,6 +243,7 @@ class Impact(CaseKind):
     keys = KEYS
     takes = ("title", "gravity", "panel.*", "supports.*", "preload.mode", "preload.settle_time",
              "materials.*", "contact.*", "damping.*", "impact.*", "output.row_time",
+             "output.force_window",
              "output.dump_rows", "output.frames", "output.zones.*", "output.budget_tolerance",
              "ensemble.*")
     # the physical model (doc/impact.md, "Dissipation"): no damping of absolute velocity during
@@ -375,6 +394,8 @@ class Impact(CaseKind):
             side_force_peak=max(float(part_force[p].max()) for p in supports.EDGES),
             peak_block_force=float(t["force_mean"][k_force]),
             time_of_peak_block_force=float(time_[k_force]),
+            peak_block_force_raw=float(np.max(t["force"])),
+            **windowed_peak(time_, t["force_mean"], self.case["output.force_window"]),
             max_displacement=float(t["z"][0] - t["z"][k_low]),
             time_of_max_displacement=float(time_[k_low]),
             rebound_time=float(time_[rebound[0]]) if rebound.size else None,

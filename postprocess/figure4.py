@@ -150,6 +150,15 @@ def _title(case, data):
             f"bond{'s' if nbroken != 1 else ''}")
 
 
+def body_far_from_net(points, body):
+    """The distance between the boxes around the net and the body when it exceeds half the net's
+    largest extent (the view then keeps to the net), else None."""
+    low, high = points.min(axis=0), points.max(axis=0)
+    gap = np.maximum(np.maximum(body.min(axis=0) - high, low - body.max(axis=0)), 0.0)
+    distance = float(np.linalg.norm(gap))
+    return distance if distance > 0.5 * float(np.max(high - low)) else None
+
+
 def draw(data):
     """The matplotlib figure of ``data`` (from load) and its artists: dict(axes, tension
     (Line3DCollection of the bonds in tension), slack, broken (the red crosses, or None),
@@ -183,10 +192,15 @@ def draw(data):
     everything = [points]
     body, triangles = data.get("body_points"), data.get("body_triangles")
     if body is not None and triangles is not None and len(triangles):
-        artists["body"] = Poly3DCollection(body[triangles], facecolors=(0.5, 0.5, 0.5, 0.25),
-                                           edgecolors="none")
-        ax.add_collection3d(artists["body"])
-        everything.append(body)
+        far = body_far_from_net(points, body)
+        if far is None:
+            artists["body"] = Poly3DCollection(body[triangles], facecolors=(0.5, 0.5, 0.5, 0.25),
+                                               edgecolors="none")
+            ax.add_collection3d(artists["body"])
+            everything.append(body)
+        else:      # a block that went through: drawn to scale, the net would be a speck
+            ax.text2D(0.02, 0.02, f"the body is out of view, {far:.3g} m from the net",
+                      transform=ax.transAxes, fontsize="small")
     every = np.vstack(everything)
     low, high = every.min(axis=0), every.max(axis=0)
     span = np.maximum(high - low, 1e-3 * float(np.max(high - low, initial=1.0)) + 1e-12)

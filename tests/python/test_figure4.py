@@ -221,6 +221,23 @@ def test_figure4_impact_frame_colour_bar_and_broken_bond(tmp_path):
     assert red.sum() > 20                                      # the red cross is drawn
 
 
+def test_figure4_keeps_to_the_net_when_the_body_is_far_away(tmp_path):
+    """A block that went through the net and fell 40 m (issue #42): the view keeps to the net
+    and says where the block is, instead of drawing a speck of net beside it."""
+    case_dir = make_case(tmp_path, "impact_grid")
+    write_series(case_dir)
+    data = figure4.load(casefolders.load_case(str(case_dir)))
+    near = figure4.draw(data)[1]
+    assert near["body"] is not None
+    data["body_points"] = data["body_points"] + np.array([0.0, 0.0, -40.0])
+    fig, artists = figure4.draw(data)
+    assert artists["body"] is None
+    ax = artists["axes"]
+    span = np.ptp(data["points"], axis=0)
+    assert ax.get_zlim()[1] - ax.get_zlim()[0] < 2 * span.max()
+    assert any("out of view" in t.get_text() for t in ax.texts)
+
+
 def test_figure4_punch_uses_the_peak_before_the_first_rupture(tmp_path):
     case_dir = make_case(tmp_path, "punch_grid", kind="punch")
     write_series(case_dir)

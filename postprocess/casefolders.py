@@ -4,6 +4,7 @@ postprocess/record.py) and the CSVs (zone_forces, platter, block, beam)."""
 import math
 import os
 import re
+import sys
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -21,6 +22,39 @@ TABLES = {
     "beam": ("beam.csv", ("elements", "load", "tip_deflection", "analytic_deflection", "nrmse")),
 }
 LINE_FILES = ("deflection.csv", "beam_line.csv")
+
+
+def zone_families(table):
+    """{family: dict(time, displacement, total, max, bonds)} of a zone table (zone_forces*.csv
+    read by column name)."""
+    result = {}
+    for family in dict.fromkeys(table["family"]):
+        rows = table["family"] == family
+        result[family] = {"time": table["time"][rows],
+                          "displacement": table["displacement"][rows],
+                          "total": table["total_tension"][rows],
+                          "max": table["max_tension"][rows],
+                          "bonds": table["bonds"][rows]}
+    return result
+
+
+def other_zones(case):
+    """{zone name: table} of a case's zones after the first (zone_forces_NAME.csv, written for
+    every further [[output.zones]] entry); an unreadable file is left out with a warning."""
+    found = {}
+    try:
+        names = sorted(os.listdir(case.path))
+    except OSError:
+        return found
+    for file in names:
+        if not (file.startswith("zone_forces_") and file.endswith(".csv")):
+            continue
+        try:
+            found[file[len("zone_forces_"):-len(".csv")]] = read_csv(
+                os.path.join(case.path, file), required=TABLES["zone"][1])
+        except PostprocessError as exc:
+            print(f"postprocess: warning: {exc}", file=sys.stderr)
+    return found
 # a folder without case.json (made by hand for `postprocess report`): its kind by its tables
 KIND_OF_TABLE = (("beam", "beam"), ("block", "impact"), ("platter", "punch"))
 
@@ -67,17 +101,7 @@ class Case:
     def zone(self):
         """{family: dict(time, displacement, total, max, bonds)} from zone_forces.csv."""
         table = self.tables.get("zone")
-        if table is None:
-            return {}
-        result = {}
-        for family in dict.fromkeys(table["family"]):
-            rows = table["family"] == family
-            result[family] = {"time": table["time"][rows],
-                              "displacement": table["displacement"][rows],
-                              "total": table["total_tension"][rows],
-                              "max": table["max_tension"][rows],
-                              "bonds": table["bonds"][rows]}
-        return result
+        return {} if table is None else zone_families(table)
 
     def line_path(self):
         """The optional deflection-line CSV of a beam case."""

@@ -304,6 +304,27 @@ def _claim_lines(claim):
     return lines
 
 
+def _zone_lines(summaries):
+    """Every output zone of the cases that have more than one (output.zones): the peak total
+    and largest bond tension per family in each."""
+    rows = []
+    for name, s in summaries.items():
+        if not s.get("other_zones"):
+            continue
+        zones = {"(first)": s.get("zone") or {}, **s["other_zones"]}
+        for zone, families in zones.items():
+            for family, peaks in families.items():
+                rows.append([name, zone, family, fmt(peaks["peak_total_tension"]),
+                             fmt(peaks["peak_max_tension"])])
+    if not rows:
+        return []
+    return ["", "## Output zones", "",
+            "Cases with more than one zone (output.zones; the first is zone_forces.csv, the "
+            "others zone_forces_NAME.csv): the peak total and the peak largest bond tension of "
+            "each family in each zone.", ""] + _table(
+        ["case", "zone", "family", "peak total [N]", "peak largest [N]"], rows)
+
+
 def _dissipation_lines(rows, verdicts):
     """The impact cases under each dissipation model (energy by mechanism, forces), and each
     claim's verdict under each."""
@@ -564,6 +585,7 @@ def markdown(directory, summaries, verdicts, missing, figures, dissipation=(), e
                                                  if len(verdicts) > 1 else ""), ""]
         for claim in verdict:
             lines += _claim_lines(claim)
+    lines += _zone_lines(summaries)
     lines += _dissipation_lines(list(dissipation), verdicts)
     lines += ensemble_report.ensemble_lines(ensembles_ or {}, comparisons, ensemble_figures or {},
                                             directory)

@@ -18,11 +18,11 @@ def _peak_where(values, times, displacements):
     return float(values[index]), float(times[index]), float(displacements[index])
 
 
-def zone_peaks(case):
+def zone_peaks(case, table=None):
     """{family: peak total / max tension, their times and displacements} of a case's
-    zone_forces.csv."""
+    zone_forces.csv (or of another zone's table, read as casefolders reads that one)."""
     result = {}
-    for family, data in case.zone().items():
+    for family, data in (case.zone() if table is None else casefolders.zone_families(table)).items():
         total, total_time, total_at = _peak_where(data["total"], data["time"],
                                                       data["displacement"])
         largest, largest_time, largest_at = _peak_where(data["max"], data["time"],
@@ -52,6 +52,9 @@ def case_summary(case):
     summary["peak_block_force"] = _peak_abs(tables["block"]["force"]) \
         if "block" in tables else None
     summary["zone"] = zone_peaks(case)
+    # the zones after the first (output.zones: zone_forces_NAME.csv), by name
+    summary["other_zones"] = {name: zone_peaks(case, table)
+                              for name, table in casefolders.other_zones(case).items()}
     if "beam" in tables:
         beam = tables["beam"]
         summary["beam"] = [dict(zip(casefolders.TABLES["beam"][1], map(float, row)))

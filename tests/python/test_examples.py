@@ -110,6 +110,15 @@ def test_oblique_impact_on_a_pinned_panel(tmp_path):
     for name in ("zone_forces.csv", "zone_forces_impact.csv"):
         zone = csv(case / name)
         assert zone["total_tension"].max() > 0, name
+    # the report gives every zone, the second one's peaks read from its own file
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    impact_zone = summary["cases"]["oblique_impact"]["other_zones"]["impact"]
+    second = csv(case / "zone_forces_impact.csv")
+    for family, peaks in impact_zone.items():
+        rows = second["family"] == family
+        assert peaks["peak_total_tension"] == pytest.approx(second["total_tension"][rows].max())
+    report = (tmp_path / "report.md").read_text()
+    assert "## Output zones" in report and "| oblique_impact | impact |" in report
 
 
 def test_two_successive_impacts(tmp_path):

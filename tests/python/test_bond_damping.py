@@ -217,19 +217,26 @@ def test_isolated_net_conserves_momentum_and_closes_the_energy_budget(tmp_path):
     assert np.abs(budget - e[0]).max() / e[0] < 0.01
 
 
+def free_net_runs(tmp_path, zeta):
+    """The isolated net vibrating for 0.08 s at dt = 2 and 1 us: {dt: (thermo rows, folder)}."""
+    runs = {}
+    for dt, steps in ((2e-6, 40000), (1e-6, 80000)):
+        wd = tmp_path / f"dt{dt:g}"
+        wd.mkdir()
+        write_net(wd / "net.data")
+        deck = net_deck(zeta, steps).replace("timestep 2e-6", f"timestep {dt!r}").replace(
+            "thermo 1000", f"thermo {steps // 200}")
+        runs[dt] = (lmp.thermo_rows(lmp.run_deck(deck, wd)), wd)
+    return runs
+
+
 def test_undamped_free_net_keeps_its_energy_and_momentum(tmp_path):
     """Issue #45: without damping and without contacts a vibrating net is a conservative system:
     kinetic + rotational + bond energy + plastic work stays at its start value up to velocity
     Verlet's O(dt^2) oscillation: halving the step quarters the largest deviation (a law doing
     work of its own, or a lost term, would not shrink so), and momentum holds to round-off."""
     deviation = {}
-    for dt, steps in ((2e-6, 40000), (1e-6, 80000)):
-        wd = tmp_path / f"dt{dt:g}"
-        wd.mkdir()
-        write_net(wd / "net.data")
-        deck = net_deck(None, steps).replace("timestep 2e-6", f"timestep {dt!r}").replace(
-            "thermo 1000", f"thermo {steps // 200}")
-        rows = lmp.thermo_rows(lmp.run_deck(deck, wd))
+    for dt, (rows, wd) in free_net_runs(tmp_path, None).items():
         assert all(r["diss"] == 0.0 for r in rows)
         e = np.array([r["ke"] + r["er"] + r["pe"] + r["plast"] for r in rows])
         deviation[dt] = np.abs(e - e[0]).max() / e[0]
@@ -245,13 +252,7 @@ def test_damped_free_net_budget_closes_to_second_order(tmp_path):
     evaluated with (F.a dt/2 per step off, an O(dt) drift). The budget then deviates from its
     start value only by Verlet's O(dt^2) oscillation: halving the step quarters it."""
     deviation = {}
-    for dt, steps in ((2e-6, 40000), (1e-6, 80000)):
-        wd = tmp_path / f"dt{dt:g}"
-        wd.mkdir()
-        write_net(wd / "net.data")
-        deck = net_deck(ZETA, steps).replace("timestep 2e-6", f"timestep {dt!r}").replace(
-            "thermo 1000", f"thermo {steps // 200}")
-        rows = lmp.thermo_rows(lmp.run_deck(deck, wd))
+    for dt, (rows, _) in free_net_runs(tmp_path, ZETA).items():
         e = np.array([r["ke"] + r["er"] + r["pe"] + r["plast"] for r in rows])
         diss = np.array([r["diss"] for r in rows])
         assert diss[-1] > 0.2 * e[0]

@@ -209,6 +209,13 @@ def fmt(value, unit=""):
     return f"{value:.4g}{(' ' + unit) if unit else ''}"
 
 
+def kn(value):
+    """A force in N shown in kN (the unit of every force column of the report, as of the
+    fence table and the paper's figures), 4 significant digits; n/a for None."""
+    return fmt(value / 1e3 if isinstance(value, (int, float)) and not isinstance(value, bool)
+               else value)
+
+
 def fmt_rupture(value):
     """First rupture of case.json: {displacement, force, bond: {...}} of a punch or
     {time, bond: {...}} of an impact (a bare number, from older case files, is a time)."""
@@ -272,18 +279,18 @@ def _case_rows(summaries):
     for name, s in summaries.items():
         status = s["status"] + (" (unreadable: " + "; ".join(s["errors"]) + ")"
                                 if s["errors"] else "")
-        yield [name, s["kind"], s["mode"], status, fmt(s["peak_platter_force"]),
-               fmt(s["peak_block_force"]),
-               fmt_rupture(s["first_rupture"]), fmt(s["edge_force_peak"]),
+        yield [name, s["kind"], s["mode"], status, kn(s["peak_platter_force"]),
+               kn(s["peak_block_force"]),
+               fmt_rupture(s["first_rupture"]), kn(s["edge_force_peak"]),
                fmt(s["wall_time"])]
 
 
 def _zone_rows(summaries):
     for name, s in summaries.items():
         for family, z in s.get("zone", {}).items():
-            yield [name, family, fmt(z["peak_total_tension"]),
+            yield [name, family, kn(z["peak_total_tension"]),
                    _when(s["kind"], z["time_of_peak_total"], z["displacement_of_peak_total"]),
-                   fmt(z["peak_max_tension"]),
+                   kn(z["peak_max_tension"]),
                    _when(s["kind"], z["time_of_peak_max"], z["displacement_of_peak_max"])]
 
 
@@ -314,15 +321,15 @@ def _zone_lines(summaries):
         zones = {"(first)": s.get("zone") or {}, **s["other_zones"]}
         for zone, families in zones.items():
             for family, peaks in families.items():
-                rows.append([name, zone, family, fmt(peaks["peak_total_tension"]),
-                             fmt(peaks["peak_max_tension"])])
+                rows.append([name, zone, family, kn(peaks["peak_total_tension"]),
+                             kn(peaks["peak_max_tension"])])
     if not rows:
         return []
     return ["", "## Output zones", "",
             "Cases with more than one zone (output.zones; the first is zone_forces.csv, the "
             "others zone_forces_NAME.csv): the peak total and the peak largest bond tension of "
             "each family in each zone.", ""] + _table(
-        ["case", "zone", "family", "peak total [N]", "peak largest [N]"], rows)
+        ["case", "zone", "family", "peak total [kN]", "peak largest [kN]"], rows)
 
 
 def _dissipation_lines(rows, verdicts):
@@ -333,16 +340,16 @@ def _dissipation_lines(rows, verdicts):
     lines = ["", "## Dissipation models side by side", "", DISSIPATION_NOTE, ""]
     mechanisms = list(dict.fromkeys(k for r in rows for k in r["mechanisms"]))
     lines += _table(["case", "model", "mode", "E0 [J]"] + [f"{m} / E0" for m in mechanisms] +
-                    ["closure", "momentum", "peak block force [N]",
-                     "block force, windowed peak [N]", "peak support force [N]",
-                     "peak edge force [N]", "braking distance [m]",
-                     "peak zone total per family [N]"],
+                    ["closure", "momentum", "peak block force [kN]",
+                     "block force, windowed peak [kN]", "peak support force [kN]",
+                     "peak edge force [kN]", "braking distance [m]",
+                     "peak zone total per family [kN]"],
                     [[r["case"], r["model"], r["mode"], fmt(r["initial_energy"])] +
                      [_percent(r["fractions"].get(m)) for m in mechanisms] +
                      [_percent(r["closure_error"]), _percent(r["momentum_error"]),
-                      fmt(r["peak_block_force"]), _windowed(r), fmt(r["edge_force_peak"]),
-                      fmt(r["side_force_peak"]), fmt(r["braking_distance"]),
-                      ", ".join(f"{f} {fmt(v)}" for f, v in r["peak_zone_total"].items())]
+                      kn(r["peak_block_force"]), _windowed(r), kn(r["edge_force_peak"]),
+                      kn(r["side_force_peak"]), fmt(r["braking_distance"]),
+                      ", ".join(f"{f} {kn(v)}" for f, v in r["peak_zone_total"].items())]
                      for r in rows])
     names = list(verdicts)
     lines += ["", "Verdicts under each model (impact cases of that model; the quasi-static "
@@ -354,10 +361,10 @@ def _dissipation_lines(rows, verdicts):
 
 
 def _windowed(row):
-    """The block force's windowed peak and its window, e.g. '8.45e+04 (5 ms)'."""
+    """The block force's windowed peak in kN and its window, e.g. '84.5 (5 ms)'."""
     if row.get("peak_block_force_windowed") is None:
         return "-"
-    return f"{fmt(row['peak_block_force_windowed'])} ({row['force_window'] * 1e3:.3g} ms)"
+    return f"{kn(row['peak_block_force_windowed'])} ({row['force_window'] * 1e3:.3g} ms)"
 
 
 DISSIPATION_NOTE = (
@@ -472,9 +479,9 @@ def markdown(directory, summaries, verdicts, missing, figures, dissipation=(), e
              "first rupture, edge-force peak and wall time come from case.json (n/a: not "
              "recorded). Mode: `full` is the paper's case, `quick` the small, short version of "
              "`--quick`; a verdict drawn from quick cases says so.", ""]
-    lines += _table(["case", "kind", "mode", "status", "peak platter force [N]",
-                     "peak block force [N]",
-                     "first rupture", "edge-force peak [N]", "wall time [s]"],
+    lines += _table(["case", "kind", "mode", "status", "peak platter force [kN]",
+                     "peak block force [kN]",
+                     "first rupture", "edge-force peak [kN]", "wall time [s]"],
                     list(_case_rows(summaries)))
     walls = [s["wall_time"] for s in summaries.values() if isinstance(s.get("wall_time"), (int, float))]
     if walls:
@@ -499,18 +506,19 @@ def markdown(directory, summaries, verdicts, missing, figures, dissipation=(), e
     lines += _bending_sensitivity_lines(summaries)
     lines += ["", "## Tension in the central zone (zone_forces.csv)", ""]
     zone_rows = list(_zone_rows(summaries))
-    lines += _table(["case", "family", "peak total tension [N]", "at",
-                     "peak max tension [N]", "at"], zone_rows) if zone_rows else \
+    lines += _table(["case", "family", "peak total tension [kN]", "at",
+                     "peak max tension [kN]", "at"], zone_rows) if zone_rows else \
         ["No zone_forces.csv found."]
     impacts = {n: s["impact"] for n, s in summaries.items() if s.get("impact")}
     if impacts:
         lines += _section("Impact cases: energy budget, momentum, supports", IMPACT_NOTE)
         lines += _table(["case", "energy closure [-]", "momentum error [-]",
-                         "max block travel [m]", "rebound at [s]", "peak block force [N]",
-                         "peak edge force [N]", "broken bonds"],
+                         "max block travel [m]", "rebound at [s]", "peak block force [kN]",
+                         "peak support force [kN]", "peak edge force [kN]", "broken bonds"],
                         [[n, fmt(i["closure_error"]), fmt(i["momentum_error"]),
                           fmt(i["max_displacement"]), fmt(i["rebound_time"]),
-                          fmt(i["peak_block_force"]), fmt(i["edge_force_peak"]),
+                          kn(i["peak_block_force"]), kn(i["edge_force_peak"]),
+                          kn(i.get("side_force_peak")),
                           fmt(i["broken_bonds"])] for n, i in impacts.items()])
     evidence = {n: s["quasi_static"] for n, s in summaries.items() if s.get("quasi_static")}
     if evidence:
@@ -533,12 +541,12 @@ def markdown(directory, summaries, verdicts, missing, figures, dissipation=(), e
     peak_rows = impact_peak_rows(summaries)
     if peak_rows:
         lines += ["", "## Impact: peak tension, single net vs compound (Figures 5 and 6)", ""]
-        lines += _table(["family", "single-net case", "peak total, single [N]",
-                         "peak total, compound [N]", "compound / single",
-                         "peak max, single [N]", "peak max, compound [N]", "compound / single"],
-                        [[r["family"], r["single"], fmt(r["single_peak_total"]),
-                          fmt(r["compound_peak_total"]), fmt(r["ratio_total"]),
-                          fmt(r["single_peak_max"]), fmt(r["compound_peak_max"]),
+        lines += _table(["family", "single-net case", "peak total, single [kN]",
+                         "peak total, compound [kN]", "compound / single",
+                         "peak max, single [kN]", "peak max, compound [kN]", "compound / single"],
+                        [[r["family"], r["single"], kn(r["single_peak_total"]),
+                          kn(r["compound_peak_total"]), fmt(r["ratio_total"]),
+                          kn(r["single_peak_max"]), kn(r["compound_peak_max"]),
                           fmt(r["ratio_max"])] for r in peak_rows])
     fences = {n: s["fence"] for n, s in summaries.items() if s.get("fence")}
     if fences:

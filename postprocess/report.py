@@ -222,7 +222,8 @@ def fmt_rupture(value):
     if not isinstance(value, dict):
         return fmt(value, "s")
     bond = value.get("bond") or {}
-    where = (f"{fmt(value.get('displacement'), 'm')}, {fmt(value.get('force'), 'N')}"
+    force = value.get("force")
+    where = (f"{fmt(value.get('displacement'), 'm')}, {kn(force)} kN"
              if "displacement" in value else fmt(value.get("time"), "s"))
     return f"{where}, {bond.get('family', '?')} bond {bond.get('atom1', '?')}-{bond.get('atom2', '?')}"
 

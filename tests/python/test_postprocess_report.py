@@ -165,15 +165,15 @@ def test_full_report_with_figures(tmp_path):
         "peak_max_tension": 9e3, "time_of_peak_max": 0.1, "displacement_of_peak_max": 0.01}
     assert summary["cases"]["beam"]["beam_max_nrmse"] == 0.02
     assert summary["cases"]["calib_0.05"]["kind"] == "calibration"
-    assert "| impact_hex | impact | unknown | ok | n/a | 7.5e+05 | 0.031 s | 2.5e+05 | 12.5 |" in text
-    assert ("| punch_hex | punch | unknown | ok | 3e+05 | n/a | 0.3 m, 2.5e+05 N, DT bond 17-18 | n/a "
+    assert "| impact_hex | impact | unknown | ok | n/a | 750 | 0.031 s | 250 | 12.5 |" in text
+    assert ("| punch_hex | punch | unknown | ok | 300 | n/a | 0.3 m, 250 kN, DT bond 17-18 | n/a "
             "| 900 |") in text
-    assert "| impact_square | rope | 5e+05 | 0.1 s | 1e+04 | 0.1 s |" in text
+    assert "| impact_square | rope | 500 | 0.1 s | 10 | 0.1 s |" in text
     assert ("| punch_hex | 4 | 0.43 % | 0.123 | 0.053 % | 0.079 % (0.51 %) | 0.12 | 0 | True |"
             in text)
     assert summary["cases"]["punch_hex"]["quasi_static"]["curve_difference"] == 0.0043
     # punch peaks are placed by platter travel, not by time
-    assert "| punch_hex | DT | 1000 | 0.01 m | 120 | 0.01 m |" in text
+    assert "| punch_hex | DT | 1 | 0.01 m | 0.12 | 0.01 m |" in text
     assert "   - punch_hex: DT 120 N vs SW 80 N -> holds" in text
     assert text.count("**supported**") == 3
 

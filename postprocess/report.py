@@ -107,6 +107,47 @@ def fence_comparison(summaries):
     return None
 
 
+def panel_post_load_rows(summaries):
+    """The paper's post-load conclusion at panel scale: for every group of impacts that differ
+    only in their net (postprocess/claims.py), under each dissipation model, the compound
+    panel's peak loads over the square panel's: the largest load on one edge (what a post or
+    edge support is sized for) and the vector sum of all supports (the block's impulse)."""
+    rows = []
+    for model in claims.models(summaries):
+        for (_, mode), nets in claims.impact_groups(summaries, model).items():
+            if "compound" not in nets or "square" not in nets:
+                continue
+            c = summaries[nets["compound"]].get("impact") or {}
+            q = summaries[nets["square"]].get("impact") or {}
+            row = {"model": model, "mode": mode, "compound": nets["compound"],
+                   "square": nets["square"]}
+            for key in ("side_force_peak", "edge_force_peak"):
+                a, b = c.get(key), q.get(key)
+                row[key] = (a, b, a / b if a is not None and b else None)
+            rows.append(row)
+    return rows
+
+
+def _post_load_lines(rows):
+    if not rows:
+        return []
+    lines = ["", "## The post-load conclusion at panel scale", "",
+             "The paper concludes that the hexagonal layer of the compound net lowers the load on "
+             "the posts. Per dissipation model, the compound panel's peak loads against the square "
+             "panel's under the same block: the largest load on one edge (a post or an edge "
+             "support is sized for it) and the vector sum of all supports (the net force on the "
+             "frame, in which the inward pulls of opposite edges cancel). A ratio below 1 "
+             "supports the conclusion.", ""]
+    lines += _table(["model", "mode", "compound", "square", "edge: compound [kN]",
+                     "edge: square [kN]", "ratio", "sum: compound [kN]", "sum: square [kN]",
+                     "ratio"],
+                    [[claims.MODELS.get(r["model"], r["model"]), r["mode"], r["compound"],
+                      r["square"], kn(r["side_force_peak"][0]), kn(r["side_force_peak"][1]),
+                      fmt(r["side_force_peak"][2]), kn(r["edge_force_peak"][0]),
+                      kn(r["edge_force_peak"][1]), fmt(r["edge_force_peak"][2])] for r in rows])
+    return lines
+
+
 def _percent(value):
     return "n/a" if value is None else f"{100 * value + 0.0:.3g} %"
 
@@ -596,6 +637,7 @@ def markdown(directory, summaries, verdicts, missing, figures, dissipation=(), e
             lines += _claim_lines(claim)
     lines += _zone_lines(summaries)
     lines += _dissipation_lines(list(dissipation), verdicts)
+    lines += _post_load_lines(panel_post_load_rows(summaries))
     lines += ensemble_report.ensemble_lines(ensembles_ or {}, comparisons, ensemble_figures or {},
                                             directory)
     lines += _sources_lines(summaries)
@@ -650,6 +692,7 @@ def build(directory, expected=None, figures=True):
                    "dissipation_models": dissipation,
                    "impact_peaks": impact_peak_rows(summaries),
                    "fence_comparison": fence_comparison(summaries),
+                   "panel_post_load": panel_post_load_rows(summaries),
                    "ensembles": ensemble_summaries, "ensemble_comparisons": comparisons,
                    "figures": {k: [os.path.relpath(p, directory) for p in v]
                                for k, v in {**written, **ensemble_figures}.items()}}

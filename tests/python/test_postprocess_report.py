@@ -491,3 +491,26 @@ def test_cases_are_listed_in_natural_order():
     assert sorted(names, key=natural_key) == [
         "calibration_0.05", "calibration_0.25", "calibration_1", "impact_hex", "impact_hex_paper",
         "speed_v6", "speed_v10", "speed_v20"]
+
+
+def test_panel_post_load_compares_edge_and_summed_loads_per_model():
+    """The paper's post-load conclusion at panel scale (issue #45): per dissipation model, the
+    compound panel's largest edge load and summed support load over the square panel's, from
+    the impacts that differ only in their net; a group without both nets gives no row."""
+    def impact(net, model, side, total, mass=44.5):
+        return {"kind": "impact", "status": "ok", "errors": [], "zone": {"rope": {}},
+                "panel": net, "dissipation": model, "mode": "full",
+                "block": {"mass": mass, "speed": 10.0, "point": [0.0, 0.0]},
+                "impact": {"side_force_peak": side, "edge_force_peak": total}}
+    summaries = {"c": impact("compound", "physical", 174.8e3, 66.3e3),
+                 "s": impact("square", "physical", 144.6e3, 64.0e3),
+                 "cp": impact("compound", "local", 80e3, 7e3),
+                 "sp": impact("square", "local", 100e3, 10e3),
+                 "lonely": impact("compound", "physical", 1.0, 1.0, mass=60.0)}
+    rows = report_module.panel_post_load_rows(summaries)
+    assert [(r["model"], r["compound"], r["square"]) for r in rows] == [
+        ("physical", "c", "s"), ("local", "cp", "sp")]
+    assert rows[0]["side_force_peak"] == (174.8e3, 144.6e3, pytest.approx(174.8 / 144.6))
+    assert rows[1]["edge_force_peak"][2] == pytest.approx(0.7)
+    text = "\n".join(report_module._post_load_lines(rows))
+    assert "| 174.8 | 144.6 | 1.209 |" in text

@@ -91,6 +91,17 @@ def active(case):
                                         or bool(v["ensemble.sensitivity"]))
 
 
+def check_inactive(case):
+    """A case whose [ensemble] asks for no members (members 1, no sweep, no sensitivity) must not
+    state an ensemble key at another value than its default: it would vary nothing, silently."""
+    stated = [path for path in sorted(case.stated) if path.startswith("ensemble.")
+              and path in case.values and case.values[path] != schema.BY_PATH[path].default]
+    if stated:
+        raise CaseFileError(f"{case.path}: {stated[0]}: {case.values[stated[0]]!r} varies nothing: "
+                            "the [ensemble] asks for no members (set ensemble.members > 1, or a "
+                            "sweep or a sensitivity study)")
+
+
 def variations(case):
     """{variation: how} of the random variations the case asks (the report's header)."""
     v = case.values

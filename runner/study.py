@@ -136,10 +136,11 @@ def expand_ensembles(loaded, out):
     case.toml); and the ensembles. Every member is checked before anything runs."""
     cases, ensembles = [], []
     for case in loaded:
-        if not ensemble.active(case):
-            cases.append(case)
-            continue
         try:
+            if not ensemble.active(case):
+                ensemble.check_inactive(case)
+                cases.append(case)
+                continue
             found = ensemble.expand(case, out)
         except CaseFileError as exc:
             raise StudyError(str(exc)) from None

@@ -126,6 +126,17 @@ def test_a_speed_spread_without_a_speed_distribution_is_refused(tmp_path):
     assert not (tmp_path / "out").exists()
 
 
+def test_ensemble_keys_without_members_are_refused(tmp_path):
+    """An [ensemble] that asks for no members (members = 1, no sweep, no sensitivity) but varies
+    something would run the case alone and ignore the rest: refused, naming the first key."""
+    path = tmp_path / "ens.toml"
+    path.write_text(CASE.format(members=1, seed=7))
+    p = run(tmp_path / "out", "--quick", target=path)
+    assert p.returncode == 2 and p.stderr.count("\n") == 1, p.stderr
+    assert "varies nothing: the [ensemble] asks for no members" in p.stderr
+    assert not (tmp_path / "out").exists()
+
+
 def test_partitions_must_divide_the_ranks(tmp_path):
     path = tmp_path / "ens.toml"
     path.write_text(CASE.format(members=3, seed=7))

@@ -15,12 +15,8 @@ const char* netKindName(NetKind k) {
 }
 
 bool parseNetKind(const std::string& text, NetKind& k) {
-    for (NetKind c : {NetKind::Hex, NetKind::Square, NetKind::Compound})
-        if (text == netKindName(c)) {
-            k = c;
-            return true;
-        }
-    return false;
+    static const NetKind all[] = {NetKind::Hex, NetKind::Square, NetKind::Compound};
+    return parseByName(text, all, netKindName, k);
 }
 
 namespace {

@@ -27,12 +27,8 @@ const char* placementName(Placement p) {
 }
 
 bool parsePlacement(const std::string& text, Placement& p) {
-    for (Placement c : {Placement::Twist, Placement::Wire, Placement::Corner, Placement::Symmetric})
-        if (text == placementName(c)) {
-            p = c;
-            return true;
-        }
-    return false;
+    static const Placement all[] = {Placement::Twist, Placement::Wire, Placement::Corner, Placement::Symmetric};
+    return parseByName(text, all, placementName, p);
 }
 
 const char* selvedgeName(Selvedge s) {
@@ -45,12 +41,8 @@ const char* selvedgeName(Selvedge s) {
 }
 
 bool parseSelvedge(const std::string& text, Selvedge& s) {
-    for (Selvedge c : {Selvedge::Loop, Selvedge::None, Selvedge::Sides})
-        if (text == selvedgeName(c)) {
-            s = c;
-            return true;
-        }
-    return false;
+    static const Selvedge all[] = {Selvedge::Loop, Selvedge::None, Selvedge::Sides};
+    return parseByName(text, all, selvedgeName, s);
 }
 
 Eigen::Vector2d HexParams::latticeOrigin() const {

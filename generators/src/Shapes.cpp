@@ -219,12 +219,8 @@ const char* shapeKindName(ShapeKind k) {
 }
 
 bool parseShapeKind(const std::string& text, ShapeKind& k) {
-    for (ShapeKind c : {ShapeKind::Spheroid, ShapeKind::Cone, ShapeKind::TruncatedCube})
-        if (text == shapeKindName(c)) {
-            k = c;
-            return true;
-        }
-    return false;
+    static const ShapeKind all[] = {ShapeKind::Spheroid, ShapeKind::Cone, ShapeKind::TruncatedCube};
+    return parseByName(text, all, shapeKindName, k);
 }
 
 void ShapeParams::validate() const {

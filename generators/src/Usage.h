@@ -3,6 +3,7 @@
 // free of the parser: a program that sets them itself gets the same checks).
 #pragma once
 #include <functional>
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 
@@ -30,5 +31,17 @@ void requireLess(const std::string& small, double smallValue, const std::string&
 struct SideNames {
     std::string width = "--width", height = "--height";
 };
+
+// The value among `all` whose name (nameOf) is `text`, into `out`; false if none is (an
+// option's choice: the enumerations name their values once, in their xxxName function).
+template <typename E, std::size_t N>
+bool parseByName(const std::string& text, const E (&all)[N], const char* (*nameOf)(E), E& out) {
+    for (E c : all)
+        if (text == nameOf(c)) {
+            out = c;
+            return true;
+        }
+    return false;
+}
 
 }  // namespace wirenet

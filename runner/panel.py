@@ -34,16 +34,20 @@ GENERATOR_OPTIONS = (
 )
 
 
-def generator_options(case, net):
-    """wirenet-gen options beyond the net and size: only those a case changes from the schema's
-    defaults (a node radius of 0 is the generator's own), so that a case with the defaults
-    generates the generator's default net."""
+def changed_options(case, pairs):
+    """The wirenet-gen options of (case key, option) pairs whose value the case changes from the
+    key's default (the generator's own; a node radius's 0 is its 'unset'), so that a case with
+    the defaults generates the generator's default net. An option of None: not for this net."""
     options = []
-    for path, by_net in GENERATOR_OPTIONS:
-        value, option = case[path], by_net.get(net)
-        if option and value != case.keys[path].default and value != 0.0:
-            options += [option, value]
+    for path, option in pairs:
+        if option and case[path] != case.keys[path].default:
+            options += [option, case[path]]
     return options
+
+
+def generator_options(case, net):
+    """wirenet-gen options of the net beyond its kind and size (GENERATOR_OPTIONS)."""
+    return changed_options(case, [(path, by_net.get(net)) for path, by_net in GENERATOR_OPTIONS])
 
 
 # nodes per square metre of the generator's default nets (3 m panels: 2930, 561, 3491 nodes)

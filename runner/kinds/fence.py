@@ -38,7 +38,7 @@ from postprocess import record
 from ..block import Block, compose
 from ..generator import generate
 from ..materials import MATERIALS, SOURCES, bending_of, rope_strength_keyword
-from ..panel import generator_options, node_masses
+from ..panel import changed_options, generator_options, node_masses
 from ..params import Key
 from .base import CaseKind
 
@@ -78,7 +78,8 @@ def _part(name, type_, unit, doc, **kw):
     return _fence(name, type_, default, unit, doc, SOURCES[name], **kw)
 
 
-# case key -> wirenet-gen fence option (passed when the value differs from the key's default)
+# case key -> wirenet-gen fence option (passed when the value differs from the key's default:
+# runner/panel.py changed_options)
 FENCE_OPTIONS = (("fence.support_rope_d", "--support-rope-diameter"),
                  ("fence.upslope_rope_d", "--upslope-rope-diameter"),
                  ("fence.anchor_distance", "--anchor-distance"),
@@ -88,15 +89,6 @@ FENCE_OPTIONS = (("fence.support_rope_d", "--support-rope-diameter"),
                  ("fence.post_area", "--post-area"), ("fence.post_iy", "--post-iy"),
                  ("fence.post_iz", "--post-iz"), ("fence.post_j", "--post-j"),
                  ("fence.post_width", "--post-node-diameter"))
-
-
-def fence_options(case):
-    """wirenet-gen fence options of the case's make-up keys that differ from their defaults."""
-    options = []
-    for path, option in FENCE_OPTIONS:
-        if case[path] != case.keys[path].default:
-            options += [option, case[path]]
-    return options
 
 
 def floor_damping(restitution, kn, mass):
@@ -355,7 +347,7 @@ class Setup:
             "fence", prefix, "--modules", c["fence.modules"], "--spacing", c["fence.spacing"],
             "--height", c["fence.height"], "--net", net, "--post-tilt", c["fence.post_tilt"],
             "--head-guides", c["fence.head_guides"], *generator_options(c, "compound"),
-            *fence_options(c))
+            *changed_options(c, FENCE_OPTIONS))
         self.json_path, self.shackles = prefix + ".json", prefix + ".shackles"
         self.types_path = prefix + ".types.in"
         self.meta = read_json(self.json_path)

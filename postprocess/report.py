@@ -250,11 +250,11 @@ def fmt(value, unit=""):
     return f"{value:.4g}{(' ' + unit) if unit else ''}"
 
 
-def kn(value):
-    """A force in N shown in kN (the unit of every force column of the report, as of the
-    fence table and the paper's figures), 4 significant digits; n/a for None."""
+def kn(value, unit=""):
+    """A force in N shown in kN (the unit of every force of the report, as of the fence table
+    and the paper's figures), 4 significant digits (and unit); n/a for None."""
     return fmt(value / 1e3 if isinstance(value, (int, float)) and not isinstance(value, bool)
-               else value)
+               else value, unit)
 
 
 def fmt_rupture(value):
@@ -263,8 +263,7 @@ def fmt_rupture(value):
     if not isinstance(value, dict):
         return fmt(value, "s")
     bond = value.get("bond") or {}
-    force = value.get("force")
-    where = (f"{fmt(value.get('displacement'), 'm')}, {kn(force)} kN"
+    where = (f"{fmt(value.get('displacement'), 'm')}, {kn(value.get('force'), 'kN')}"
              if "displacement" in value else fmt(value.get("time"), "s"))
     return f"{where}, {bond.get('family', '?')} bond {bond.get('atom1', '?')}-{bond.get('atom2', '?')}"
 
@@ -340,14 +339,14 @@ def _claim_lines(claim):
     lines = [f"{claim['id']}. {claim['statement']}  ", f"   Verdict: **{claim['verdict']}**"]
     for e in claim["evidence"]:
         if claim["id"] == 3:
-            lines.append(f"   - {e['square']} rope: peak total {fmt(e['square_peak_total'], 'N')}, "
-                         f"peak max {fmt(e['square_peak_max'], 'N')}; {e['compound']} rope: "
-                         f"peak total {fmt(e['compound_peak_total'], 'N')}, peak max "
-                         f"{fmt(e['compound_peak_max'], 'N')} -> "
+            lines.append(f"   - {e['square']} rope: peak total {kn(e['square_peak_total'], 'kN')}, "
+                         f"peak max {kn(e['square_peak_max'], 'kN')}; {e['compound']} rope: "
+                         f"peak total {kn(e['compound_peak_total'], 'kN')}, peak max "
+                         f"{kn(e['compound_peak_max'], 'kN')} -> "
                          f"{'holds' if e['holds'] else 'does not hold'}")
         else:
             a, b = [k for k in e if k not in ("case", "holds")]
-            lines.append(f"   - {e['case']}: {a} {fmt(e[a], 'N')} vs {b} {fmt(e[b], 'N')} -> "
+            lines.append(f"   - {e['case']}: {a} {kn(e[a], 'kN')} vs {b} {kn(e[b], 'kN')} -> "
                          f"{'holds' if e['holds'] else 'does not hold'}")
     lines += [f"   - {note}" for note in claim["notes"]]
     return lines

@@ -174,7 +174,7 @@ def test_full_report_with_figures(tmp_path):
     assert summary["cases"]["punch_hex"]["quasi_static"]["curve_difference"] == 0.0043
     # punch peaks are placed by platter travel, not by time
     assert "| punch_hex | DT | 1 | 0.01 m | 0.12 | 0.01 m |" in text
-    assert "   - punch_hex: DT 120 N vs SW 80 N -> holds" in text
+    assert "   - punch_hex: DT 0.12 kN vs SW 0.08 kN -> holds" in text
     assert text.count("**supported**") == 3
 
 
@@ -188,7 +188,7 @@ def test_claim_1_false(tmp_path):
         "punch_hex": True, "punch_compound": False, "impact_hex": True,
         "impact_compound": True}
     assert len(evidence) == 4
-    assert "   - punch_compound: DT 70 N vs SW 80 N -> does not hold" in text
+    assert "   - punch_compound: DT 0.07 kN vs SW 0.08 kN -> does not hold" in text
 
 
 def test_claim_2_false(tmp_path):

@@ -612,9 +612,11 @@ void BondWirenet::damp_beams()
       const double ca = p.c.ca[k], cs = p.c.cs[k], cb = p.c.cb[k], ct = p.c.ct[k];
       if (ca == 0.0 && cs == 0.0 && cb == 0.0 && ct == 0.0) continue;  // undamped type or broken
       const int i = p.i[k], j = p.j[k];
-      BeamDampLoad d = { i, j, p.type[k], { 0.0, 0.0, 0.0 }, { 0.0, 0.0, 0.0 }, { 0.0, 0.0, 0.0 } };
-      double fj[3] = { 0.0, 0.0, 0.0 };
-      BeamLaw::damp(ca, cs, cb, ct, x + 3 * i, x + 3 * j, v + 3 * i, v + 3 * j, w + 3 * i, w + 3 * j, d.f, fj, d.ti, d.tj);
+      BeamDampLoad d;
+      d.i = i;
+      d.j = j;
+      d.type = p.type[k];
+      BeamLaw::damp(ca, cs, cb, ct, x + 3 * i, x + 3 * j, v + 3 * i, v + 3 * j, w + 3 * i, w + 3 * j, d.f, d.ti, d.tj);
       for (int c = 0; c < 3; c++) {
         f[3 * i + c] += d.f[c];
         f[3 * j + c] -= d.f[c];

@@ -130,12 +130,12 @@ class BeamLaw {
                            BeamLoad<T> &out);
 
   // Viscous damping of one bond (see doc/bond_wirenet.md, "Bond damping"): node velocities v and
-  // angular velocities w. Adds the force on i (j gets the opposite) and the torques on i and j,
-  // returns the dissipated power (>= 0). No allocation.
+  // angular velocities w. Sets the force f on i (j gets -f) and the torques ti, tj on i and j
+  // (the bond style applies them and tallies their work at the end of the step). No allocation.
   // ca, cs, cb, ct: the coefficients of BeamConst.
-  static inline double damp(double ca, double cs, double cb, double ct, const double *xi, const double *xj,
-                            const double *vi, const double *vj, const double *wi, const double *wj,
-                            double *fi, double *fj, double *ti, double *tj);
+  static inline void damp(double ca, double cs, double cb, double ct, const double *xi, const double *xj,
+                          const double *vi, const double *vj, const double *wi, const double *wj,
+                          double *f, double *ti, double *tj);
   // the damping coefficients of a bond of initial length l0 between nodes of masses mi, mj and
   // moments of inertia ii, ij
   void set_damping(double l0, double mi, double mj, double ii, double ij, BeamConst<double> &b) const;
@@ -386,13 +386,14 @@ inline __attribute__((always_inline)) bool BeamLaw::kernel(const BeamConst<T> &b
   return true;
 }
 
-inline double BeamLaw::damp(double ca, double cs, double cb, double ct, const double *xi, const double *xj,
-                            const double *vi, const double *vj, const double *wi, const double *wj,
-                            double *fi, double *fj, double *ti, double *tj)
+inline void BeamLaw::damp(double ca, double cs, double cb, double ct, const double *xi, const double *xj,
+                          const double *vi, const double *vj, const double *wi, const double *wj,
+                          double *f, double *ti, double *tj)
 {
   double e[3] = { xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2] };
   const double L = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
-  if (!(L > 0.0)) return 0.0;
+  for (int c = 0; c < 3; c++) f[c] = ti[c] = tj[c] = 0.0;
+  if (!(L > 0.0)) return;
   for (int c = 0; c < 3; c++) e[c] /= L;
   // relative velocity of the two bond ends at the bond's centre: dv - (L/2) (wi + wj) x e
   const double h = 0.5 * L;
@@ -401,28 +402,22 @@ inline double BeamLaw::damp(double ca, double cs, double cb, double ct, const do
   double vc[3];
   for (int c = 0; c < 3; c++) vc[c] = vj[c] - vi[c] - h * wxe[c];
   const double vn = vc[0] * e[0] + vc[1] * e[1] + vc[2] * e[2];  // = (vj - vi).e
-  double f[3], vs2 = 0.0, wb2 = 0.0;
   const double wr[3] = { wj[0] - wi[0], wj[1] - wi[1], wj[2] - wi[2] };
   const double wn = wr[0] * e[0] + wr[1] * e[1] + wr[2] * e[2];
   double m[3];
   for (int c = 0; c < 3; c++) {
     const double vs = vc[c] - vn * e[c];  // shear part of the end velocity
     const double wb = wr[c] - wn * e[c];  // bending part of the relative rotation rate
-    vs2 += vs * vs;
-    wb2 += wb * wb;
-    f[c] = ca * vn * e[c] + cs * vs;    // on i, at the centre of the bond
-    m[c] = cb * wb + ct * wn * e[c];    // relative rotation: +m on i, -m on j
+    f[c] = ca * vn * e[c] + cs * vs;      // on i, at the centre of the bond
+    m[c] = cb * wb + ct * wn * e[c];      // relative rotation: +m on i, -m on j
   }
   // the shear force acts at the centre: the same couple (L/2) e x f on both nodes
   const double exf[3] = { h * (e[1] * f[2] - e[2] * f[1]), h * (e[2] * f[0] - e[0] * f[2]),
                           h * (e[0] * f[1] - e[1] * f[0]) };
   for (int c = 0; c < 3; c++) {
-    fi[c] += f[c];
-    fj[c] -= f[c];
-    ti[c] += m[c] + exf[c];
-    tj[c] += exf[c] - m[c];
+    ti[c] = m[c] + exf[c];
+    tj[c] = exf[c] - m[c];
   }
-  return ca * vn * vn + cs * vs2 + cb * wb2 + ct * wn * wn;
 }
 
 }  // namespace WireNet

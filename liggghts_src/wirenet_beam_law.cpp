@@ -183,8 +183,14 @@ void BeamLaw::set_damping(double l0, double mi, double mj, double ii, double ij,
   const Stiffness k = stiffness(l0);
   const double m_eff = mi * mj / (mi + mj), i_eff = ii * ij / (ii + ij);
   const double ks = 4.0 * k.shear_coupling / (l0 * l0);  // Ks = 4 Cs / l0^2
+  // the shear damper acts on one coordinate, the slip at the bond's centre, which both nodes'
+  // translations and (lever l0/2) rotations move: its oscillator's mass is 1 / (1/m_eff +
+  // (l0/2)^2 / i_eff). With m_eff alone a rope node small beside l0 had its rotation damped at
+  // zeta (l0/2) sqrt(m/I), near critical, where the explicit step overshoots and gains energy.
+  const double half = 0.5 * l0;
+  const double m_slip = 1.0 / (1.0 / m_eff + half * half / i_eff);
   b.ca = 2.0 * z * std::sqrt(k.axial * m_eff);
-  b.cs = 2.0 * z * std::sqrt(ks * m_eff);
+  b.cs = 2.0 * z * std::sqrt(ks * m_slip);
   b.cb = 2.0 * z * std::sqrt(k.bending * i_eff);
   b.ct = 2.0 * z * std::sqrt(k.twist * i_eff);
 }

@@ -2,6 +2,7 @@
 closed STL of the user, its mass properties, oriented and centred as released. Not a kind: the
 kinds that throw a block share it."""
 
+import math
 import os
 
 import numpy as np
@@ -59,3 +60,12 @@ def compose(first, then):
     w2, x2, y2, z2 = then
     return (w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2, w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
             w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2, w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2)
+
+
+def floor_damping(restitution, kn, mass):
+    """gamma_n [1/s] of fix wirenet/body's floor (F = kn d - gamma_n M v_n) that gives a body of
+    this mass the coefficient of restitution: the damped linear oscillator's
+    zeta = -ln e / sqrt(pi^2 + ln^2 e), gamma_n = 2 zeta sqrt(kn / M)."""
+    log_e = math.log(restitution)
+    zeta = -log_e / math.sqrt(math.pi ** 2 + log_e ** 2)
+    return 2.0 * zeta * math.sqrt(kn / mass)

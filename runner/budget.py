@@ -27,6 +27,21 @@ class Term:
     mechanism: str = ""  # the report's group: the name of the mechanism it belongs to
 
 
+# The ground's terms (a fence's level ground, a drapery's slope): the nodes' contacts with it
+# (fix wirenet/body plane) and the block's (its floor)
+GROUND_TERMS = (
+    Term("e_ground", ("e_ground",), "energy stored in the ground's contact springs",
+         stored=True, dissipative=False),
+    Term("friction_ground", ("w_ground",), "dissipated by the ground's contacts with the nodes: "
+         "friction and normal damping", sign=-1, less=("e_ground",),
+         mechanism="friction: net on ground"),
+    Term("e_floor", ("e_floor_block",), "energy stored in the contacts of the block with the "
+         "ground", stored=True, dissipative=False),
+    Term("friction_block_ground", ("w_floor_block",), "dissipated by the block's contacts with "
+         "the ground: friction and normal damping", mechanism="friction: block on ground"),
+)
+
+
 def terms_of(table, terms):
     """{term name: series} of a budget."""
     out = {}

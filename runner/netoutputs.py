@@ -7,6 +7,7 @@ import numpy as np
 
 from postprocess import bodyframes, dumps, vtu, zone
 from postprocess.csvio import write_csv
+from postprocess.errors import PostprocessError, at
 from postprocess.meta import PanelInfo
 
 # fix wirenet/bonds' local columns, 1-based as f_wirenet_bonds[k] (doc/fix_wirenet_bonds.md)
@@ -76,3 +77,52 @@ def write_series(case_dir, workdir, data_path, body_stl, dt):
     the analytic body, its STL moved to the poses the deck wrote)."""
     bodyframes.write_body_frames(workdir, body_stl)
     vtu.write_case_series(case_dir, workdir, data_path, dt)
+
+
+def read_vector_rows(path, ncols):
+    """A fix ave/time mode vector file ('step rows' lines, each followed by that many 'index
+    values' rows): (steps, values[row, index, ncols])."""
+    try:
+        lines = [l.split() for l in open(path) if l.strip() and not l.startswith("#")]
+    except OSError as exc:
+        raise PostprocessError(f"{path}: {exc.strerror or exc}") from None
+    steps, blocks, k = [], [], 0
+    while k < len(lines):
+        head = lines[k]
+        try:
+            step, n = int(head[0]), int(head[1])
+            if len(head) != 2:
+                raise ValueError
+            block = np.array([[float(v) for v in row[1:]] for row in lines[k + 1:k + 1 + n]])
+        except (ValueError, IndexError):
+            raise at(path, k + 1, "expected a 'step rows' line and its rows of numbers") from None
+        if block.shape != (n, ncols) or not np.all(np.isfinite(block)):
+            raise at(path, k + 1, f"expected {n} rows of {ncols} finite values")
+        steps.append(step)
+        blocks.append(block)
+        k += n + 1
+    if not blocks:
+        raise PostprocessError(f"{path}: no rows")
+    return np.array(steps), np.array(blocks)
+
+
+def read_support_rows(path):
+    """anchors.txt / bases.txt (fix ave/time mode vector of fix wirenet/hold ... each: id and
+    the window-mean reaction): (steps, ids, forces[row, atom, xyz]) [N]."""
+    steps, rows = read_vector_rows(path, 4)
+    return steps, rows[0, :, 0].astype(int), rows[:, :, 1:]
+
+
+def last_nodes(path, up_to=None):
+    """(ids, positions) of the last frame of a custom dump (id type x y z), or of the last one
+    at or before step up_to (the frames go on through the rest after the impact)."""
+    frame = None
+    for candidate in dumps.iter_frames(path):
+        if up_to is not None and candidate.step > up_to:
+            break
+        frame = candidate
+    if frame is None:
+        raise PostprocessError(f"{path}: no frames" +
+                               (f" up to step {up_to}" if up_to is not None else ""))
+    return frame.integers(frame.names.index("id")), np.column_stack(
+        [frame.column(c) for c in ("x", "y", "z")])

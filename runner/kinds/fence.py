@@ -27,7 +27,7 @@ import numpy as np
 from postprocess import dumps
 from postprocess.csvio import read_csv, read_deck_table, write_csv
 from postprocess.datafile import read_data
-from postprocess.errors import PostprocessError, at
+from postprocess.errors import PostprocessError
 from postprocess.meta import read_json
 
 from .. import INPUTS, budget, dissipation, engine, netoutputs, timestep
@@ -35,7 +35,7 @@ from ..budget import Term
 from ..errors import RunError
 from postprocess import record
 
-from ..block import Block, compose
+from ..block import Block, compose, floor_damping
 from ..generator import generate
 from ..materials import MATERIALS, SOURCES, bending_of, rope_strength_keyword
 from ..panel import changed_options, generator_options, node_masses
@@ -89,15 +89,6 @@ FENCE_OPTIONS = (("fence.support_rope_d", "--support-rope-diameter"),
                  ("fence.post_area", "--post-area"), ("fence.post_iy", "--post-iy"),
                  ("fence.post_iz", "--post-iz"), ("fence.post_j", "--post-j"),
                  ("fence.post_width", "--post-node-diameter"))
-
-
-def floor_damping(restitution, kn, mass):
-    """gamma_n [1/s] of fix wirenet/body's floor (F = kn d - gamma_n M v_n) that gives a body of
-    this mass the coefficient of restitution: the damped linear oscillator's
-    zeta = -ln e / sqrt(pi^2 + ln^2 e), gamma_n = 2 zeta sqrt(kn / M)."""
-    log_e = math.log(restitution)
-    zeta = -log_e / math.sqrt(math.pi ** 2 + log_e ** 2)
-    return 2.0 * zeta * math.sqrt(kn / mass)
 
 
 KEYS = (
@@ -236,20 +227,11 @@ BUDGET = (
     Term("contact_layers", ("w_contact_pair",), "work of the node-node contacts (friction; "
          "their springs' energy is below 1e-3 J a contact)", sign=-1,
          mechanism="friction: between the net's layers"),
-    Term("e_ground", ("e_ground",), "energy stored in the ground's contact springs",
-         stored=True, dissipative=False),
-    Term("friction_ground", ("w_ground",), "dissipated by the ground's contacts with the nodes: "
-         "friction and normal damping", sign=-1, less=("e_ground",),
-         mechanism="friction: net on ground"),
-    Term("e_floor", ("e_floor_block",), "energy stored in the contacts of the block with the "
-         "ground", stored=True, dissipative=False),
-    Term("friction_block_ground", ("w_floor_block",), "dissipated by the block's contacts with "
-         "the ground: friction and normal damping", mechanism="friction: block on ground"),
     Term("friction", ("w_friction",), "shackle friction (fix wirenet/shackle)",
          mechanism="friction: shackles on ropes"),
     Term("shackle_damping", ("w_shackle_damping",), "shackle damping",
          mechanism="friction: shackles on ropes"),
-)
+) + budget.GROUND_TERMS
 # the fence's parts by family (wirenet-gen fence, doc/file_formats.md) and its components for the
 # energy per component (every other bond type is the net's)
 PART_FAMILIES = ("support_rope", "brake", "upslope", "upslope_brake", "post")
@@ -493,43 +475,9 @@ def read_table(workdir):
     return read_deck_table(os.path.join(workdir, TABLE), sorted(names))
 
 
-def read_vector_rows(path, ncols):
-    """A fix ave/time mode vector file ('step rows' lines, each followed by that many 'index
-    values' rows): (steps, values[row, index, ncols])."""
-    try:
-        lines = [l.split() for l in open(path) if l.strip() and not l.startswith("#")]
-    except OSError as exc:
-        raise PostprocessError(f"{path}: {exc.strerror or exc}") from None
-    steps, blocks, k = [], [], 0
-    while k < len(lines):
-        head = lines[k]
-        try:
-            step, n = int(head[0]), int(head[1])
-            if len(head) != 2:
-                raise ValueError
-            block = np.array([[float(v) for v in row[1:]] for row in lines[k + 1:k + 1 + n]])
-        except (ValueError, IndexError):
-            raise at(path, k + 1, "expected a 'step rows' line and its rows of numbers") from None
-        if block.shape != (n, ncols) or not np.all(np.isfinite(block)):
-            raise at(path, k + 1, f"expected {n} rows of {ncols} finite values")
-        steps.append(step)
-        blocks.append(block)
-        k += n + 1
-    if not blocks:
-        raise PostprocessError(f"{path}: no rows")
-    return np.array(steps), np.array(blocks)
-
-
-def read_support_rows(path):
-    """anchors.txt / bases.txt (fix ave/time mode vector of fix wirenet/hold ... each: id and
-    the window-mean reaction): (steps, ids, forces[row, atom, xyz]) [N]."""
-    steps, rows = read_vector_rows(path, 4)
-    return steps, rows[0, :, 0].astype(int), rows[:, :, 1:]
-
-
 def read_bond_types(workdir):
     """bond_types.txt: (steps, {tally: [row, type - 1]}) of BOND_TALLIES."""
-    steps, rows = read_vector_rows(os.path.join(workdir, "bond_types.txt"), len(BOND_TALLIES))
+    steps, rows = netoutputs.read_vector_rows(os.path.join(workdir, "bond_types.txt"), len(BOND_TALLIES))
     return steps, rows
 
 
@@ -628,7 +576,7 @@ def read_rest(workdir):
     rows = read_csv(os.path.join(workdir, "rest.csv"), required=("time", "ke", "gap"))
     if not len(rows["time"]):
         raise PostprocessError(f"{workdir}/rest.csv: no rows")
-    return dict(nodes=last_nodes(dump), time=float(rows["time"][-1]), ke=float(rows["ke"][-1]),
+    return dict(nodes=netoutputs.last_nodes(dump), time=float(rows["time"][-1]), ke=float(rows["ke"][-1]),
                 times=rows["time"], gaps=rows["gap"])
 
 
@@ -642,21 +590,6 @@ def rest_facts(rest, impact_end, setup):
     return dict(time=rest["time"] - impact_end, kinetic_energy=rest["ke"],
                 limit=REST_KE * setup.energy, reached=bool(rest["ke"] < REST_KE * setup.energy),
                 probe_moved=moved, still=bool(full and moved < REST_STILL))
-
-
-def last_nodes(path, up_to=None):
-    """(ids, positions) of the last frame of a custom dump (id type x y z), or of the last one
-    at or before step up_to (the frames go on through the rest after the impact)."""
-    frame = None
-    for candidate in dumps.iter_frames(path):
-        if up_to is not None and candidate.step > up_to:
-            break
-        frame = candidate
-    if frame is None:
-        raise PostprocessError(f"{path}: no frames" +
-                               (f" up to step {up_to}" if up_to is not None else ""))
-    return frame.integers(frame.names.index("id")), np.column_stack(
-        [frame.column(c) for c in ("x", "y", "z")])
 
 
 # ---------------------------------------------------------------------------------------------
@@ -775,7 +708,7 @@ class Fence(CaseKind):
         names_of.update({b: f"post_base_{k}" for k, b in enumerate(setup.meta["post_bases"])})
         supports, peaks = [], {}
         for file in ("anchors.txt", "bases.txt"):
-            steps, ids, forces = read_support_rows(os.path.join(workdir, file))
+            steps, ids, forces = netoutputs.read_support_rows(os.path.join(workdir, file))
             magnitude = np.linalg.norm(forces, axis=2)
             for k, atom in enumerate(ids):
                 j = int(np.argmax(magnitude[:, k]))
@@ -823,7 +756,7 @@ class Fence(CaseKind):
 
         data = read_data(setup.data_path)
         end_of_impact = residual_height(
-            setup, last_nodes(os.path.join(workdir, "frames", "nodes.dump"),
+            setup, netoutputs.last_nodes(os.path.join(workdir, "frames", "nodes.dump"),
                               int(t["step"][-1])), data)
         rest = read_rest(workdir)
         height = residual_height(setup, rest["nodes"], data) if rest else end_of_impact

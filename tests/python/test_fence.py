@@ -32,7 +32,7 @@ import pytest
 
 import lmp
 from postprocess.datafile import read_data
-from runner import api, budget, kinds
+from runner import api, budget, kinds, netoutputs
 from runner.dissipation import SETTLE_ALPHA
 from runner.kinds import fence
 from runner.kinds.fence import GAP, REST_VISCOUS, component_types, rest_probe
@@ -241,7 +241,7 @@ def test_the_energy_per_component_adds_up(impact):
 
 def test_the_anchor_rows_add_up_and_mirror(impact):
     meta, t, folder = impact
-    steps, ids, forces = fence.read_support_rows(folder / "anchors.txt")
+    steps, ids, forces = netoutputs.read_support_rows(folder / "anchors.txt")
     assert list(ids) == sorted(a["id"] for a in meta["anchors"])
     assert list(steps[:len(t["step"])]) == list(t["step"].astype(int))
     total = forces.sum(axis=1)[:len(t["step"])]

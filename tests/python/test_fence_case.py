@@ -216,19 +216,19 @@ def test_sel_reports_both_impacts(sel):
 
 
 def test_the_end_of_impact_frame_is_not_the_rest(tmp_path):
-    """The frames go on through the rest: runner.kinds.fence.last_nodes(path, up_to) returns
+    """The frames go on through the rest: runner.netoutputs.last_nodes(path, up_to) returns
     the last frame at or before the impact's last step (the residual height at the end of the
     impact), not the rest's last frame; without up_to the last frame."""
-    from runner.kinds import fence as runner_fence
+    from runner import netoutputs
     frames = ""
     for step, z in ((0, 1.0), (100, 2.0), (200, 3.0)):
         frames += (f"ITEM: TIMESTEP\n{step}\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS mm mm mm\n"
                    f"-1 1\n-1 1\n-1 4\nITEM: ATOMS id type x y z\n7 9 0 0 {z}\n")
     path = tmp_path / "nodes.dump"
     path.write_text(frames)
-    assert runner_fence.last_nodes(path, 150)[1][0, 2] == 2.0
-    assert runner_fence.last_nodes(path, 200)[1][0, 2] == 3.0
-    assert runner_fence.last_nodes(path)[1][0, 2] == 3.0
+    assert netoutputs.last_nodes(path, 150)[1][0, 2] == 2.0
+    assert netoutputs.last_nodes(path, 200)[1][0, 2] == 3.0
+    assert netoutputs.last_nodes(path)[1][0, 2] == 3.0
 
 
 def test_a_rest_file_without_the_probe_column_is_refused(tmp_path):
@@ -248,7 +248,7 @@ def test_floor_damping_gives_the_block_its_restitution(restitution):
     block on the floor (stiffness kn, mass M, c = gamma_n M) has the coefficient of restitution
     e = exp(-zeta pi / sqrt(1 - zeta^2)), zeta = c / (2 sqrt(kn M)); e = 1: no damping."""
     import math
-    from runner.kinds.fence import floor_damping
+    from runner.block import floor_damping
     kn, mass = 1e8, 1600.0
     gamma = floor_damping(restitution, kn, mass)
     zeta = gamma * mass / (2.0 * math.sqrt(kn * mass))

@@ -78,6 +78,15 @@ def _component_row(name, f):
             kj(contacts), kj(kinetic)]
 
 
+DRAPERY_NOTE = (
+    "A mesh hung on a slope from its top anchors and bolted on a grid, hit by a block from "
+    "upslope (runner/kinds/drapery.py, doc/drapery.md). Block energy: the block's kinetic and "
+    "potential energy the budget starts from (at the release); travel: down the slope from the "
+    "release; bulge: the largest rise of the mesh off the slope, normal to it, since it "
+    "settled; anchors: the largest window-mean force of one anchor of the top row and of the "
+    "grid, and of the top row together (fix wirenet/hold ... each).")
+
+
 def _fence_rows(fences):
     """(row name, facts) of each fence case, and of its second impact (SEL) after it."""
     for name, facts in fences.items():
@@ -622,6 +631,19 @@ def markdown(directory, summaries, verdicts, missing, figures, dissipation=(), e
                              "net elastic peak", "ropes elastic peak", "ropes ruptures",
                              "brakes dissipated", "posts elastic peak", "shackle friction",
                              "damping", "contacts", "kinetic at end"], rows)
+    draperies = {n: s["drapery"] for n, s in summaries.items() if s.get("drapery")}
+    if draperies:
+        lines += _section("Drapery cases", DRAPERY_NOTE)
+        lines += _table(["case", "net", "slope [deg]", "block energy [kJ]", "block",
+                         "travel [m]", "final speed [m/s]", "bulge [m]", "peak top anchor [kN]",
+                         "peak grid anchor [kN]", "top row [kN]", "energy closure [-]",
+                         "broken bonds"],
+                        [[n, d["net"], fmt(d["slope"]),
+                          fmt(d["block_energy"] / 1e3 if d["block_energy"] else None),
+                          d["block_verdict"] or "n/a", fmt(d["travel"]), fmt(d["final_speed"]),
+                          fmt(d["bulge"]), kn(d["top_anchor_peak"]), kn(d["grid_anchor_peak"]),
+                          kn(d["top_row_force_peak"]), fmt(d["closure_error"]),
+                          fmt(d["broken_bonds"])] for n, d in draperies.items()])
     beams = {n: s for n, s in summaries.items() if s.get("beam")}
     for name, s in beams.items():
         lines += ["", f"## Beam check ({name})", ""]

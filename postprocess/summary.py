@@ -86,6 +86,8 @@ def case_summary(case):
                              "force_window": case.meta.get("force_window")}
     if case.kind == "fence":
         summary["fence"] = fence_summary(case.meta)
+    if case.kind == "drapery":
+        summary["drapery"] = drapery_summary(case.meta)
     if isinstance(case.meta.get("quasi_static"), dict):
         summary["quasi_static"] = quasi_static_summary(case.meta["quasi_static"])
     figures = datasheet.of_case(case)
@@ -129,6 +131,21 @@ def fence_summary(meta):
             "energy_final": energy.get("final"), "initial_energy": energy.get("initial_energy"),
             "mechanisms": energy.get("mechanisms"), "dissipation": meta.get("dissipation"),
             "components": energy.get("components")}
+
+
+def drapery_summary(meta):
+    """The facts of a drapery case (runner/kinds/drapery.py) the report shows."""
+    energy = meta.get("energy") or {}
+    end = meta.get("block_end") or {}
+    return {"net": meta.get("panel"), "slope": meta.get("slope"),
+            "block_energy": energy.get("initial_energy"),
+            "block_verdict": meta.get("block_verdict"), "travel": end.get("travel"),
+            "final_speed": end.get("final_speed"), "bulge": meta.get("bulge_peak"),
+            "top_anchor_peak": (meta.get("top_anchor_peak") or {}).get("force"),
+            "grid_anchor_peak": (meta.get("grid_anchor_peak") or {}).get("force"),
+            "top_row_force_peak": meta.get("top_row_force_peak"),
+            "closure_error": energy.get("closure_error"), "mechanisms": energy.get("mechanisms"),
+            "broken_bonds": meta.get("broken_bonds")}
 
 
 def _rest_settled(rest):

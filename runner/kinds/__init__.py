@@ -2,12 +2,13 @@
 `kind` names one of them; its module declares the keys of its own section."""
 
 from .cantilever import Cantilever
+from .drapery import Drapery
 from .fence import Fence
 from .impact import Impact
 from .punch import Punch
 from .tensile import Tensile
 
-ALL = (Punch, Impact, Tensile, Cantilever, Fence)
+ALL = (Punch, Impact, Tensile, Cantilever, Fence, Drapery)
 NAMES = tuple(k.name for k in ALL)
 BY_NAME = {k.name: k for k in ALL}
 

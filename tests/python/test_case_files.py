@@ -89,7 +89,7 @@ def error_of(text):
     ('kind = "punch"\n[materials]\nslack_u = nan\n', "materials.slack_u: must be a finite number"),
     ('kind = "punch"\n[panel]\nselvedge = "yes"\n', "panel.selvedge: must be one of loop, none, sides"),
     ('kind = "punch"\n[output]\ndump_rows = 0\n', "output.dump_rows: must be >= 1, got 0"),
-    ('kind = "punch"\n[output]\nrow_time = 1e-3\n', "output.row_time: only for kind 'impact'"),
+    ('kind = "punch"\n[output]\nrow_time = 1e-3\n', "output.row_time: only for kinds 'drapery', 'impact'"),
     ('kind = "impact"\n[output]\nrow_travel = 1e-3\n', "output.row_travel: only for kind"),
     ('kind = "punch"\n[output]\nframes = true\n', "output.frames: must be an integer, got"),
 ])
@@ -108,7 +108,7 @@ def test_a_key_of_other_kinds_names_every_kind_that_takes_it(text, path, kind):
     takers = schema.takers(schema.BY_PATH[path])
     assert takers and kind not in takers
     expected = f"{path}: only for kind{'s' if len(takers) > 1 else ''} " + \
-        ", ".join(f"'{n}'" for n in takers) + f" (this case is '{kind}')"
+        ", ".join(f"'{n}'" for n in sorted(takers)) + f" (this case is '{kind}')"
     assert error_of(text).endswith(expected)
 
 

@@ -1,0 +1,462 @@
+"""Drapery cases (issue #42; doc/drapery.md): a mesh panel hung on a slope from a row of top
+anchors, lying on the ground below them and bolted on a grid, hit by a rigid block that slides
+and tumbles down the slope from above the top anchors into the gap between the mesh and the
+slope. Deck: inputs/drapery.in.
+
+The panel is generated flat (wirenet-gen, the [panel] keys) and turned onto the slope here, so
+gravity stays vertical and every output is in the world frame: the slope is the plane through
+the origin with the outward unit normal n = (0, -sin b, cos b), its up-slope direction
+u = (0, cos b, sin b); the top anchor line runs along x at up-slope distance 0, drapery.top_height
+off the slope. The mesh is laid from there straight down to the slope at HANG_ANGLE and then on
+it, bolted to the slope at the grid anchors; it settles under its weight (damped, outside the
+budget) before the block is released.
+
+Outputs: the block's path, the anchors' loads (each anchor's, the top row's and the grid's sums),
+the bulge (how far the mesh rose off the slope since it settled), the energy budget (each term
+by its own mechanism: BUDGET), ruptures and the ParaView series.
+"""
+
+import math
+import os
+import time
+
+import numpy as np
+
+from postprocess import record
+from postprocess.csvio import read_deck_table, write_csv
+from postprocess.meta import PanelInfo
+
+from .. import INPUTS, budget, dissipation, engine, netoutputs, timestep
+from ..block import Block, floor_damping
+from ..budget import Term
+from ..errors import RunError
+from ..materials import MATERIALS, SOURCES, bending_of
+from ..panel import Panel
+from ..params import Derived, Key
+from .base import CaseKind
+
+TABLE = "drapery.csv"    # the deck's table: names in its header (inputs/drapery.in)
+HANG_ANGLE = 30.0        # deg: the laid mesh's line from the top anchors to the slope (settling
+                         # finds the hanging shape; a numerical start, not a property)
+MARGIN = 4.0             # m: the box beyond the laid mesh (the block lifts it, the foot slides)
+GAP = 0.005              # m: the block's clearance above the slope at release
+ROCK_DENSITY = 2700.0    # kg/m3: granite and limestone 2600-2750 (rockfall practice; the
+                         # density gives the block's size only)
+EXAMPLE = "WireNet's drapery example (issue #42: a 10 m x 10 m mesh on a 60 degree slope)"
+
+
+def _drapery(name, type_, default, unit, doc, source, **kw):
+    return Key(f"drapery.{name}", type_, default, unit, doc, source, **kw)
+
+
+def _ground(name, doc, **kw):
+    """The block's ground: default and source from inputs/include/materials.in (as the fence's)."""
+    return _drapery(name, "number", float(MATERIALS[name]), kw.pop("unit", ""), doc,
+                    SOURCES[name], **kw)
+
+
+KEYS = (
+    _drapery("slope", "number", 60.0, "deg", "slope angle from the horizontal (the mesh lies on "
+             "it; gravity stays vertical)", EXAMPLE, low=0.0, low_open=True, high=89.0),
+    _drapery("top_height", "number", 1.0, "m", "height of the top anchor line above the slope "
+             "(the gap the block enters under the mesh)", EXAMPLE + ": a design choice",
+             low=0.05, high=10.0),
+    _drapery("anchor_spacing", "number", 3.0, "m", "spacing of the grid anchors below the top "
+             "row (across and down the slope, the centre line between two columns; the node "
+             "nearest each grid point is bolted to the slope from the start; none where the "
+             "laid mesh hangs above the slope); 0: the top row only", EXAMPLE + " (a 3 m grid)",
+             low=0.0, high=100.0),
+    _drapery("block_mass", "number", 500.0, "kg", "block mass (a truncated cube)", EXAMPLE,
+             low=1.0, high=1e6),
+    _drapery("block_side", "number", Derived(
+        lambda v: (v["drapery.block_mass"] / ROCK_DENSITY) ** (1.0 / 3.0),
+        f"the cube of the block's mass at {ROCK_DENSITY:g} kg/m3"), "m",
+        "the truncated cube's side", "rock density 2600-2750 kg/m3 (granite, limestone)",
+        low=0.01, high=20.0),
+    _drapery("release_distance", "number", 5.0, "m", "where the block starts: up-slope "
+             "distance from the top anchor line, on the slope", EXAMPLE + " (5 m upslope)",
+             low=0.0, high=1000.0),
+    _drapery("release_speed", "number", 0.0, "m/s", "the block's speed down the slope at "
+             "release", EXAMPLE + " (released at rest)", low=0.0, high=100.0, quick=6.0),
+    _drapery("point_x", "number", 0.0, "m", "the block's path across the slope: offset from "
+             "the panel's centre line", EXAMPLE),
+    _drapery("settle_time", "number", 0.5, "s", "settling of the laid mesh under its weight "
+             "(local damping, outside the budget) before the block is released",
+             "doc/drapery.md", low=0.0, high=100.0, quick=0.05),
+    _drapery("duration", "number", 3.0, "s", "simulated time after the release", EXAMPLE,
+             low=0.0, low_open=True, high=100.0, quick=0.15),
+    _drapery("dt_fraction", "number", 0.5, "", "time step as a fraction of the stable step of "
+             "the bonds and of the contact on the lightest node (runner/timestep.py)",
+             "doc/impact.md (\"Time step\")", low=0.0, low_open=True, high=1.0),
+    _ground("ground_kn", "normal stiffness of the block's contact with the slope (tangential: "
+            "a tenth of it)", unit="N/m", low=1.0, high=1e12),
+    _ground("ground_mu", "friction of the block on the slope", low=0.0, high=2.0),
+    _ground("ground_restitution", "normal coefficient of restitution of the block on the slope",
+            low=0.01, high=1.0),
+)
+
+# The energy budget: each term from its own mechanism (inputs/drapery.in)
+BUDGET = (
+    Term("ke_block", ("ke_block",), "kinetic energy of the block", stored=True,
+         dissipative=False),
+    Term("ke_net", ("ke_net",), "kinetic energy of the mesh", stored=True, dissipative=False),
+    Term("pe_block", ("pe_block",), "gravity potential energy of the block", dissipative=False),
+    Term("pe_net", ("pe_net",), "gravity potential energy of the mesh", dissipative=False),
+    Term("e_elastic", ("e_elastic",), "elastic energy of the bonds", stored=True,
+         dissipative=False),
+    Term("w_plastic", ("w_plastic",), "plastic work of the wires", mechanism="plasticity"),
+    Term("e_released", ("e_released",), "elastic energy released at ruptures",
+         mechanism="ruptures"),
+    Term("damping", ("w_damping",), "work of the local damping", sign=-1,
+         mechanism="local damping (to ground)"),
+    Term("bond_damping", ("w_bond_damping",), "energy dissipated by bond damping",
+         mechanism="structural damping (bonds)"),
+    Term("e_contact", ("e_contact_block",), "energy stored in the block's contact springs",
+         stored=True, dissipative=False),
+    Term("friction_block", ("w_contact_block", "w_contact_net"), "dissipated by the block's "
+         "contacts with the mesh: friction and normal damping", sign=-1,
+         less=("e_contact_block",), mechanism="friction: block on net"),
+    Term("contact_layers", ("w_contact_pair",), "work of the node-node contacts of a compound "
+         "mesh's layers", sign=-1, mechanism="friction: between the net's layers"),
+) + budget.GROUND_TERMS
+
+
+class Slope:
+    """The slope's frame: up-slope u, outward normal n (world frame, gravity -z)."""
+
+    def __init__(self, angle_deg):
+        b = math.radians(angle_deg)
+        self.u = np.array([0.0, math.cos(b), math.sin(b)])
+        self.n = np.array([0.0, -math.sin(b), math.cos(b)])
+
+    def point(self, across, up, off):
+        """World position of (across x, up-slope distance, height off the slope)."""
+        return np.outer(across, [1.0, 0.0, 0.0]) + np.outer(up, self.u) + np.outer(off, self.n)
+
+    def coordinates(self, p):
+        """(across, up-slope, off the slope) of world positions p (rows)."""
+        p = np.atleast_2d(p)
+        return p[:, 0], p @ self.u, p @ self.n
+
+
+def laid_positions(x, y, z, radius, slope, top_height):
+    """The flat panel's nodes laid on the slope: the top row (largest y) on the anchor line
+    top_height off the slope, the mesh from there straight down at HANG_ANGLE to the slope and
+    then on it (lengths along the mesh kept, up to the one kink), each layer at its own height
+    above the slope's contact."""
+    s = y.max() - y                                   # distance from the top row along the mesh
+    delta = math.radians(HANG_ANGLE)
+    hang = top_height / math.sin(delta)               # the hanging length
+    up = -np.where(s <= hang, s * math.cos(delta), hang * math.cos(delta) + (s - hang))
+    off = np.where(s <= hang, top_height - s * math.sin(delta), 0.0)
+    off = off + radius.max() + (z - z.min())
+    return slope.point(x, up, off)
+
+
+def tilt_data(src, dst, positions, box):
+    """A copy of data file src with the atoms at ``positions`` (rows in the Atoms section's
+    order) and the box ((xlo, xhi), (ylo, yhi), (zlo, zhi))."""
+    with open(src, encoding="utf-8") as handle:
+        lines = handle.read().split("\n")
+    labels = ("xlo xhi", "ylo yhi", "zlo zhi")
+    out, atom = [], 0
+    section = None
+    for line in lines:
+        words = line.split()
+        for axis, label in enumerate(labels):
+            if line.rstrip().endswith(label):
+                line = f"{box[axis][0]!r} {box[axis][1]!r} {label}"
+        if words and words[0].isalpha() and len(words) <= 2 and not line.endswith(labels):
+            section = words[0]
+        elif section == "Atoms" and len(words) >= 5:
+            if atom < len(positions):
+                p = positions[atom]
+                words[2:5] = (repr(float(p[0])), repr(float(p[1])), repr(float(p[2])))
+                line = " ".join(words)
+            atom += 1
+        out.append(line)
+    if atom != len(positions):
+        raise RunError(f"drapery: {src}: {atom} atoms in its Atoms section, {len(positions)} "
+                       "expected")
+    with open(dst, "w", encoding="utf-8") as handle:
+        handle.write("\n".join(out))
+
+
+def grid_points(width, length, spacing):
+    """(across, distance down the mesh from the top row) of the grid anchors: rows every
+    ``spacing`` below the top row, columns ``spacing`` apart with the centre line between two
+    (a block aimed at the centre runs between the bolts, not onto one), each at least half a
+    spacing from the mesh's side and foot edges."""
+    if spacing <= 0:
+        return []
+    half = 0.5 * spacing
+    n_across = int(math.floor(width / 2 / spacing + 1e-9))
+    across = [s * (j + 0.5) * spacing for j in range(n_across) for s in (-1, 1)]
+    down = [k * spacing for k in range(1, int(math.floor((length - half) / spacing + 1e-9)) + 1)]
+    return [(a, d) for d in down for a in across]
+
+
+def write_group(path, groups):
+    """A deck include defining each group of {name: atom IDs} (a group command adds to a
+    group: 200 IDs a line; an empty group as all minus all)."""
+    lines = []
+    for name, ids in groups.items():
+        if not len(ids):
+            lines.append(f"group {name} subtract all all")
+        for k in range(0, len(ids), 200):
+            lines.append(f"group {name} id " + " ".join(str(int(i)) for i in ids[k:k + 200]))
+    with open(path, "w", encoding="utf-8") as handle:
+        handle.write("\n".join(lines) + "\n")
+
+
+class Setup:
+    """The laid mesh, its anchors, the block and every number the deck needs."""
+
+    def __init__(self, kind, workdir, bending):
+        c = kind.case
+        self.kind, self.case, self.bending = kind, c, bending
+        self.g = c["gravity"]
+        self.slope = Slope(c["drapery.slope"])
+        self.panel = Panel(c, workdir)
+        data = self.panel.data
+        x, y, z = data.atom("x"), data.atom("y"), data.atom("z")
+        radius = data.atom("diameter") / 2
+        self.node_r = float(radius.max())
+        self.top_height = c["drapery.top_height"]
+        laid = laid_positions(x, y, z, radius, self.slope, self.top_height)
+        self.width = float(x.max() - x.min())
+        self.length = float(y.max() - y.min())      # along the mesh, from the top row down
+        ids = data.atom_ids
+        top = y >= y.max() - 1e-3
+        self.top_ids = ids[top]
+        # bolts in the slope: the grid points where the laid mesh lies on it (the hanging part
+        # near the top row has none)
+        self.grid, self.grid_skipped = [], 0
+        hang = self.top_height / math.sin(math.radians(HANG_ANGLE)) * math.cos(
+            math.radians(HANG_ANGLE))
+        for across, down in grid_points(self.width, self.length, c["drapery.anchor_spacing"]):
+            d = np.hypot(x - (0.5 * (x.max() + x.min()) + across), (y.max() - y) - down)
+            d[top] = np.inf
+            k = int(np.argmin(d))
+            _, up, _ = self.slope.coordinates(laid[k])
+            if -up[0] <= hang:
+                self.grid_skipped += 1
+            else:
+                self.grid.append(int(ids[k]))
+        self.grid = sorted(set(self.grid))
+        # the block: a face on the slope, up-slope of the anchor line, moving down it
+        b = math.radians(c["drapery.slope"])
+        quat = (math.cos(b / 2), math.sin(b / 2), 0.0, 0.0)
+        self.block = Block(workdir, c["drapery.block_mass"], c["drapery.block_side"], quat)
+        lift = self.block.extent(-self.slope.n) + GAP
+        self.release = self.slope.point([c["drapery.point_x"]],
+                                        [c["drapery.release_distance"]], [lift])[0]
+        self.velocity = -c["drapery.release_speed"] * self.slope.u
+        # the box: the laid mesh and the block's start, MARGIN beyond
+        pts = np.vstack([laid, self.release])
+        box = [(float(pts[:, a].min() - MARGIN), float(pts[:, a].max() + MARGIN)) for a in range(3)]
+        self.data_path = os.path.join(workdir, "drapery.data")
+        tilt_data(self.panel.data_path, self.data_path, laid, box)
+        self.anchors_path = os.path.join(workdir, "anchors.in")
+        write_group(self.anchors_path, {"top_anchors": self.top_ids, "grid_anchors": self.grid})
+        self.dt = c["drapery.dt_fraction"] * timestep.of_panel(
+            self.panel, dict(kind.key_variables(), bending=repr(bending)), workdir).loaded
+        self.node_masses = self.panel.masses
+        self.duration = c["drapery.duration"]
+        self.steps = int(math.ceil(self.duration / self.dt))
+        self.relax_steps = int(math.ceil(c["drapery.settle_time"] / self.dt))
+        self.every = max(int(round(c["output.row_time"] / self.dt)), 1)
+        self.dump_every = self.every * int(c["output.dump_rows"])
+
+    def variables(self):
+        c = self.case
+        kn = c["drapery.ground_kn"]
+        gamma = floor_damping(c["drapery.ground_restitution"], kn, self.block.mass)
+        n = self.slope.n
+        v = dict(self.kind.key_variables(), **self.block.inertia_variables(),
+                 data=os.path.abspath(self.data_path),
+                 types=os.path.abspath(self.panel.types_path),
+                 anchors=os.path.abspath(self.anchors_path), grid=1 if self.grid else 0,
+                 ny=repr(float(n[1])), nz=repr(float(n[2])), node_r=repr(self.node_r),
+                 layers=self.panel.layers, bending=repr(self.bending), mass=repr(self.block.mass),
+                 block_side=repr(self.block.side), block_cut=repr(self.block.cut),
+                 quat=" ".join(map(repr, self.block.quat)),
+                 impact_x=repr(float(self.release[0])), impact_y=repr(float(self.release[1])),
+                 zb=repr(float(self.release[2])),
+                 vx0=repr(float(self.velocity[0])), vy0=repr(float(self.velocity[1])),
+                 vz0=repr(float(self.velocity[2])),
+                 block_floor=f"floor 0 0 0 0 {n[1]!r} {n[2]!r} kn {kn!r} kt {kn / 10!r} "
+                             f"mu {c['drapery.ground_mu']!r} gamma_n {gamma!r}",
+                 alpha_relax=dissipation.SETTLE_ALPHA, dt=repr(self.dt),
+                 relax_steps=self.relax_steps, steps=self.steps, every=self.every,
+                 dump_every=self.dump_every, out=".",
+                 frame_every=max(int(math.ceil(self.steps / c["output.frames"])), 1))
+        return v
+
+
+def read_table(workdir):
+    """drapery.csv by its column names."""
+    return read_deck_table(os.path.join(workdir, TABLE), sorted(
+        {col for t in BUDGET for col in t.columns} | {
+            "step", "time", "x", "y", "z", "vx", "vy", "vz", "force", "force_mean", "contacts",
+            "top_x", "top_y", "top_z", "grid_x", "grid_y", "grid_z", "lift", "gap"}))
+
+
+def anchor_peaks(path, positions, slope):
+    """{anchor id: peak window-mean force [N], its time step, where it is (across, up-slope,
+    off the slope)} of a fix wirenet/hold ... each table (top_anchors.txt, grid_anchors.txt)."""
+    steps, ids, forces = netoutputs.read_support_rows(path)
+    magnitude = np.linalg.norm(forces, axis=2)
+    out = {}
+    for k, atom in enumerate(ids):
+        j = int(np.argmax(magnitude[:, k]))
+        across, up, off = slope.coordinates(positions[int(atom)])
+        out[int(atom)] = dict(force=float(magnitude[j, k]), step=int(steps[j]),
+                              across=float(across[0]), up=float(up[0]), off=float(off[0]))
+    return out
+
+
+def block_end(slope, table, length, top_height):
+    """Where the block ended and what that means: (facts, verdict). 'reached the foot': beyond
+    the mesh's lower edge; 'left the slope': more than 2 m off it; 'moving': still faster than
+    0.1 m/s at the run's end (a longer drapery.duration tells); 'stopped under the mesh'
+    otherwise."""
+    p = np.column_stack([table["x"], table["y"], table["z"]])
+    across, up, off = slope.coordinates(p)
+    speed = math.sqrt(table["vx"][-1] ** 2 + table["vy"][-1] ** 2 + table["vz"][-1] ** 2)
+    foot = -(length + top_height)                     # the laid mesh's lower edge, up-slope
+    if up[-1] < foot:
+        verdict = "reached the foot"
+    elif off.max() > 2.0:
+        verdict = "left the slope"
+    elif speed > 0.1:
+        verdict = "moving"
+    else:
+        verdict = "stopped under the mesh"
+    return dict(across=float(across[-1]), up=float(up[-1]), off=float(off[-1]),
+                travel=float(up[0] - up[-1]), largest_off=float(off.max()),
+                final_speed=speed, mesh_foot=foot), verdict
+
+
+class Drapery(CaseKind):
+    name = "drapery"
+    summary = "a mesh hung on a slope, bolted, hit by a block from upslope (doc/drapery.md)"
+    deck = "drapery.in"
+    keys = KEYS
+    takes = ("title", "gravity", "panel.*", "materials.*", "contact.*", "damping.*", "drapery.*",
+             "output.row_time", "output.dump_rows", "output.frames", "output.budget_tolerance")
+    not_taken = "a drapery is held by its top anchors and grid (drapery.*), not by supports"
+    defaults = {"panel.width": 10.0, "panel.height": 10.0, "panel.net": "hex",
+                "damping.local": 0.0, "damping.bond": dissipation.STRUCTURAL_ZETA}
+    default_sources = {"panel.width": EXAMPLE, "panel.height": EXAMPLE, "panel.net": EXAMPLE,
+                       "damping.bond": dissipation.STRUCTURAL_ZETA_SOURCE}
+    finished_file = "block.csv"
+
+    @classmethod
+    def check(cls, case, fail):
+        super().check(case, fail)
+        if abs(case["drapery.point_x"]) >= case["panel.width"] / 2:
+            fail("drapery.point_x", f"{case['drapery.point_x']:g} m is beyond the mesh's side "
+                                    f"edges (panel.width {case['panel.width']:g} m)")
+        side = case["drapery.block_side"]
+        if side * math.sqrt(3) >= case["drapery.top_height"] + case["panel.height"]:
+            fail("drapery.block_side", f"{side:g} m: the block is larger than the mesh and its "
+                                       "gap")
+        if not case["gravity"] > 0:
+            fail("gravity", "a drapery hangs and its block falls under gravity: gravity > 0")
+
+    def weight(self):
+        return 20
+
+    def verdict(self, facts):
+        if not facts["peak_block_force"] > 0:
+            return (record.NO_CONTACT, "the block never touched the mesh: check "
+                                       "drapery.release_distance, drapery.point_x and "
+                                       "drapery.duration")
+        return self.budget_verdict(facts)
+
+    def run(self, index, ctx):
+        c = self.case
+        bending, source = bending_of(c, ctx.study_dir)
+        setup = Setup(self, os.path.join(ctx.case_dir, "setup"), bending)
+        workdir = os.path.join(ctx.case_dir, "run")
+        start = time.time()
+        wall = engine.run(INPUTS / "drapery.in", workdir, setup.variables(), np=ctx.ranks,
+                          total_steps=setup.steps, label=f"drapery {c['panel.net']}",
+                          dt=setup.dt, phase_marker="drapery: block released")
+        table = read_table(workdir)
+        facts = self.write_outputs(setup, ctx.case_dir, workdir, table)
+        facts.update(panel=c["panel.net"], bending=bending, bending_source=source,
+                     slope=c["drapery.slope"], top_height=setup.top_height,
+                     block=dict(mass=setup.block.mass, side=setup.block.side,
+                                release=setup.release.tolist(),
+                                velocity=setup.velocity.tolist(),
+                                quat=list(setup.block.quat)),
+                     gravity=setup.g, damping=c["damping.local"],
+                     bond_damping=c["damping.bond"], dissipation=dissipation.model(c),
+                     dt=setup.dt, steps=setup.steps, duration=setup.duration,
+                     relax_steps=setup.relax_steps, nodes=int(len(setup.node_masses)),
+                     grid_anchors=len(setup.grid), grid_points_hanging=setup.grid_skipped,
+                     net_mass=float(np.sum(setup.node_masses)), run_wall_time=wall,
+                     post_wall_time=time.time() - start - wall)
+        return facts
+
+    def write_outputs(self, setup, case_dir, workdir, t):
+        """block.csv, anchors.csv, energy.csv, ruptures.csv and the ParaView series; returns
+        the facts for case.json."""
+        time_ = t["time"] - t["time"][0]
+        write_csv(os.path.join(case_dir, "block.csv"), ("time", "x", "y", "z", "vx", "vy", "vz",
+                                                        "force"),
+                  zip(time_, t["x"], t["y"], t["z"], t["vx"], t["vy"], t["vz"], t["force_mean"]))
+        top = np.linalg.norm(np.column_stack([t["top_x"], t["top_y"], t["top_z"]]), axis=1)
+        grid = np.linalg.norm(np.column_stack([t["grid_x"], t["grid_y"], t["grid_z"]]), axis=1)
+        write_csv(os.path.join(case_dir, "anchors.csv"),
+                  ("time", "top_x", "top_y", "top_z", "top_force", "grid_x", "grid_y", "grid_z",
+                   "grid_force", "bulge", "gap"),
+                  zip(time_, t["top_x"], t["top_y"], t["top_z"], top, t["grid_x"], t["grid_y"],
+                      t["grid_z"], grid, t["lift"], t["gap"]))
+        terms, total, e0, error = budget.energy_budget(t, BUDGET)
+        names = tuple(term.name for term in BUDGET)
+        write_csv(os.path.join(case_dir, "energy.csv"), ("time",) + names +
+                  ("total", "closure_error"), zip(time_, *(terms[k] for k in names), total, error))
+        panel = PanelInfo(setup.panel.json_path)
+        ruptures = netoutputs.ruptures(os.path.join(workdir, "ruptures.dump"), setup.dt,
+                                       panel.families)
+        netoutputs.write_ruptures(os.path.join(case_dir, "ruptures.csv"), ruptures)
+        netoutputs.write_series(case_dir, workdir, setup.data_path, setup.block.path, setup.dt)
+        # the anchors where they were bolted: the settled mesh (the frame at the release)
+        ids, settled = netoutputs.last_nodes(os.path.join(workdir, "frames", "nodes.dump"), 0)
+        positions = dict(zip(ids.tolist(), settled))
+        anchors = {"top": anchor_peaks(os.path.join(workdir, "top_anchors.txt"), positions,
+                                       setup.slope)}
+        if setup.grid:
+            anchors["grid"] = anchor_peaks(os.path.join(workdir, "grid_anchors.txt"), positions,
+                                           setup.slope)
+        end, verdict = block_end(setup.slope, t, setup.length, setup.top_height)
+        k_lift = int(np.argmax(t["lift"]))
+        k_force = int(np.argmax(t["force_mean"]))
+        closure = dict(closure_error=float(np.max(np.abs(error))), initial_energy=e0,
+                       final={k: float(terms[k][-1]) for k in names},
+                       final_error=float(error[-1]),
+                       mechanisms=budget.mechanisms(terms, BUDGET),
+                       local_damping_fraction=float(terms["damping"][-1]) / e0)
+
+        def peak(group):
+            if not anchors.get(group):
+                return None
+            atom = max(anchors[group], key=lambda a: anchors[group][a]["force"])
+            return dict(anchors[group][atom], id=atom)
+        return dict(
+            energy=closure, momentum=None,
+            anchors={g: {str(a): v for a, v in group.items()} for g, group in anchors.items()},
+            top_anchor_peak=peak("top"), grid_anchor_peak=peak("grid"),
+            top_row_force_peak=float(top.max()), grid_force_peak=float(grid.max()),
+            bulge_peak=float(t["lift"][k_lift]), time_of_bulge_peak=float(time_[k_lift]),
+            gap_peak=float(t["gap"].max()),
+            peak_block_force=float(t["force_mean"][k_force]),
+            time_of_peak_block_force=float(time_[k_force]),
+            peak_block_force_raw=float(np.max(t["force"])),
+            block_end=end, block_verdict=verdict, broken_bonds=len(ruptures),
+            ruptures=ruptures[:200], ruptures_listed=min(len(ruptures), 200),
+            first_rupture=netoutputs.rupture_facts(ruptures[0]) if ruptures else None,
+            families=sorted(set(panel.families.values())))

@@ -1,0 +1,150 @@
+"""The drapery kind (issue #42, doc/drapery.md): a mesh hung on a slope from its top anchors,
+bolted to the slope on a grid, hit by a block from upslope. Checked: the laying of the flat
+panel onto the slope (lengths along the mesh kept, the anchors where the case puts them), the
+grid (symmetric, the centre line between two columns), the data file's rewrite, bad keys, and
+the example of docs/examples run as a user types it in its quick form: the budget closing with
+every term by its own mechanism, the block under the mesh, symmetric bolt loads."""
+
+import json
+import math
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import lmp
+from runner import casefile
+from runner.errors import RunError
+from runner.kinds import drapery
+
+DRIVER = lmp.ROOT / "wirenet"
+EXAMPLE = lmp.ROOT / "docs" / "examples" / "drapery.toml"
+QUICK_FORM = ("--set", "panel.width=2.4", "--set", "panel.height=3", "--set",
+              "drapery.anchor_spacing=1", "--set", "drapery.top_height=0.9", "--set",
+              "drapery.release_distance=0.5")
+
+
+def driver(*args, out=None):
+    env = dict(os.environ, WIRENET_SETUP="skip", WIRENET_BUILD=str(lmp.BUILD))
+    return subprocess.run([str(DRIVER), "run", *map(str, args)] +
+                          (["--out", str(out)] if out else []),
+                          capture_output=True, text=True, env=env, timeout=1800)
+
+
+# ---- geometry -------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("angle", [30.0, 60.0, 75.0])
+def test_laid_mesh_keeps_its_lengths_and_hangs_from_the_anchor_line(angle):
+    slope = drapery.Slope(angle)
+    y = np.linspace(0.0, -4.0, 81)                   # a line of nodes down the mesh, 5 cm apart
+    x, z, r = np.zeros_like(y), np.zeros_like(y), np.full_like(y, 0.005)
+    p = drapery.laid_positions(x, y, z, r, slope, 0.6)
+    across, up, off = slope.coordinates(p)
+    assert up[0] == pytest.approx(0.0, abs=1e-12) and off[0] == pytest.approx(0.605)
+    hang = 0.6 / math.sin(math.radians(drapery.HANG_ANGLE))
+    on_slope = -y > hang
+    assert np.allclose(off[on_slope], 0.005, atol=1e-12)     # touching the slope, not in it
+    gaps = np.linalg.norm(np.diff(p, axis=0), axis=1)
+    straight = np.abs(np.diff(on_slope.astype(int))) == 0  # the one segment over the kink is a chord
+    assert np.allclose(gaps[straight], 0.05, rtol=1e-9)
+    assert np.all(gaps[~straight] <= 0.05 + 1e-12) and np.all(gaps > 0.049)
+    # the slope's frame is right-handed, u up the slope, n out of it, gravity has no x part
+    assert np.dot(slope.u, slope.n) == pytest.approx(0.0, abs=1e-15)
+    assert slope.u[2] > 0 and slope.n[2] > 0 and np.isclose(np.linalg.norm(slope.n), 1.0)
+
+
+def test_grid_is_symmetric_about_the_centre_line_and_keeps_off_the_edges():
+    for width, length, s in ((10.0, 10.0, 3.0), (2.4, 3.0, 1.0), (7.0, 5.0, 2.0)):
+        points = drapery.grid_points(width, length, s)
+        across = sorted({a for a, _ in points})
+        assert across == sorted(-a for a in across) and 0.0 not in across
+        assert all(abs(a) <= width / 2 - s / 2 + 1e-9 for a in across)
+        assert all(s - 1e-9 <= d <= length - s / 2 + 1e-9 for _, d in points)
+    assert drapery.grid_points(10.0, 10.0, 3.0) == [(-1.5, 3), (1.5, 3), (-1.5, 6), (1.5, 6)]
+    assert drapery.grid_points(10.0, 10.0, 0.0) == []
+
+
+def test_tilt_data_rewrites_positions_and_box_only(tmp_path):
+    atoms = [(1, 1, 0.0, 0.0, 0.0, 0.01, 7850.0, 1), (2, 1, 0.1, 0.0, 0.0, 0.01, 7850.0, 1)]
+    src = tmp_path / "flat.data"
+    lmp.write_data(src, atoms, [(1, 1, 1, 2)], box=((-1, 1), (-1, 1), (-1, 1)))
+    dst = tmp_path / "laid.data"
+    drapery.tilt_data(src, dst, np.array([[0.0, 0.5, 0.25], [0.1, 0.5, 0.25]]),
+                      ((-2.0, 2.0), (-3.0, 3.0), (-4.0, 4.0)))
+    flat, laid = src.read_text().split("\n"), dst.read_text().split("\n")
+    changed = [(a, b) for a, b in zip(flat, laid) if a != b]
+    assert len(flat) == len(laid) and len(changed) == 5        # 3 box lines, 2 atoms
+    assert "-3.0 3.0 ylo yhi" in laid and "2 1 0.1 0.5 0.25 0.01 7850.0 1" in laid
+    with pytest.raises(RunError, match="2 atoms in its Atoms section, 1 expected"):
+        drapery.tilt_data(src, tmp_path / "bad.data", np.zeros((1, 3)),
+                          ((-1, 1), (-1, 1), (-1, 1)))
+
+
+# ---- the case file --------------------------------------------------------------------------
+
+@pytest.mark.parametrize("text, key", [
+    ("[drapery]\nslope = 95.0\n", "drapery.slope"),
+    ("[drapery]\npoint_x = 6.0\n", "drapery.point_x"),
+    ("[supports]\nleft = \"pinned\"\n", "supports.left"),
+    ("gravity = 0.0\n", "gravity"),
+    ("[drapery]\nblock_mass = nan\n", "drapery.block_mass"),
+])
+def test_bad_drapery_keys_get_one_line(tmp_path, text, key):
+    bad = tmp_path / "bad.toml"
+    bad.write_text('kind = "drapery"\n' + text)
+    p = driver(bad, out=tmp_path / "out")
+    assert p.returncode == 2, p.stderr
+    assert p.stderr.strip().count("\n") == 0 and key in p.stderr, p.stderr
+    assert not (tmp_path / "out").exists()
+
+
+def test_example_defaults_are_the_issues_case():
+    case = casefile.read(str(EXAMPLE))
+    assert case["panel.width"] == case["panel.height"] == 10.0 and case["panel.net"] == "hex"
+    assert case["drapery.slope"] == 60.0 and case["drapery.anchor_spacing"] == 3.0
+    assert case["drapery.block_mass"] == 500.0 and case["drapery.release_distance"] == 5.0
+    assert case["damping.local"] == 0.0 and case["damping.bond"] > 0      # the physical model
+
+
+# ---- the example, quick ---------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def quick_example(tmp_path_factory):
+    out = tmp_path_factory.mktemp("drapery")
+    p = driver(EXAMPLE, "--quick", *QUICK_FORM, out=out)
+    assert p.returncode == 0, p.stderr[-2000:]
+    return out
+
+
+def test_quick_example_closes_its_budget_and_the_block_runs_under_the_mesh(quick_example):
+    case = quick_example / "drapery"
+    m = json.loads((case / "case.json").read_text())
+    assert m["status"] == "ok" and m["mode"] == "quick" and m["dissipation"] == "physical"
+    energy = m["energy"]
+    e0 = energy["initial_energy"]
+    assert e0 == pytest.approx(0.5 * 500.0 * 6.0 ** 2, rel=1e-3)   # released at 6 m/s (quick)
+    # each mechanism is measured by its own fix; the largest one here, the block's friction on
+    # the slope, is 100x the closure: leaving it out would open the budget
+    friction = energy["mechanisms"]["friction: block on ground"]
+    assert friction > 0.01 * e0 and energy["closure_error"] < 0.01 * friction / e0
+    assert energy["mechanisms"]["local damping (to ground)"] == 0.0
+    # the block went down the slope into the gap under the mesh and pushed it off the slope
+    end = m["block_end"]
+    assert end["travel"] > 0.5 and end["up"] < 0.0 and abs(end["across"]) < 1e-4
+    assert m["peak_block_force"] > 0 and m["bulge_peak"] > 0.01
+    # the anchors: the top row where the case puts it, the bolts on the slope, symmetric loads
+    top = m["anchors"]["top"]
+    # (positions from the frames dump: 6 significant digits)
+    assert all(v["off"] == pytest.approx(0.9 + 0.0054, abs=1e-5) for v in top.values())
+    grid = m["anchors"]["grid"]
+    assert m["grid_anchors"] == len(grid) == 2 and m["grid_points_hanging"] == 2
+    assert all(v["off"] == pytest.approx(0.0054, abs=1e-5) for v in grid.values())
+    left, right = sorted(grid.values(), key=lambda v: v["across"])
+    assert left["across"] == pytest.approx(-right["across"])
+    assert left["force"] == pytest.approx(right["force"], rel=0.05) and left["force"] > 10.0
+    for name in ("anchors.csv", "energy.csv", "block.csv", "ruptures.csv", "drapery.pvd",
+                 "drapery_body.pvd"):
+        assert (case / name).is_file(), name
+    report = (quick_example / "report.md").read_text()
+    assert "## Drapery cases" in report and "| drapery | hex | 60 |" in report

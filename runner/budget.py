@@ -27,6 +27,23 @@ class Term:
     mechanism: str = ""  # the report's group: the name of the mechanism it belongs to
 
 
+# The terms of every block-on-net case that a kind does not word its own way (fence, drapery):
+# ruptures, the two dampings and the block's contact with the net
+RUPTURE_DAMPING_CONTACT_TERMS = (
+    Term("e_released", ("e_released",), "elastic energy released at ruptures",
+         mechanism="ruptures"),
+    Term("damping", ("w_damping",), "work of the local damping", sign=-1,
+         mechanism="local damping (to ground)"),
+    Term("bond_damping", ("w_bond_damping",), "energy dissipated by bond damping",
+         mechanism="structural damping (bonds)"),
+    Term("e_contact", ("e_contact_block",), "energy stored in the block's contact springs",
+         stored=True, dissipative=False),
+    Term("friction_block", ("w_contact_block", "w_contact_net"), "dissipated by the block's "
+         "contacts with the net: friction and normal damping", sign=-1,
+         less=("e_contact_block",), mechanism="friction: block on net"),
+)
+
+
 # The ground's terms (a fence's level ground, a drapery's slope): the nodes' contacts with it
 # (fix wirenet/body plane) and the block's (its floor)
 GROUND_TERMS = (

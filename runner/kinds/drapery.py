@@ -105,17 +105,7 @@ BUDGET = (
     Term("e_elastic", ("e_elastic",), "elastic energy of the bonds", stored=True,
          dissipative=False),
     Term("w_plastic", ("w_plastic",), "plastic work of the wires", mechanism="plasticity"),
-    Term("e_released", ("e_released",), "elastic energy released at ruptures",
-         mechanism="ruptures"),
-    Term("damping", ("w_damping",), "work of the local damping", sign=-1,
-         mechanism="local damping (to ground)"),
-    Term("bond_damping", ("w_bond_damping",), "energy dissipated by bond damping",
-         mechanism="structural damping (bonds)"),
-    Term("e_contact", ("e_contact_block",), "energy stored in the block's contact springs",
-         stored=True, dissipative=False),
-    Term("friction_block", ("w_contact_block", "w_contact_net"), "dissipated by the block's "
-         "contacts with the mesh: friction and normal damping", sign=-1,
-         less=("e_contact_block",), mechanism="friction: block on net"),
+    *budget.RUPTURE_DAMPING_CONTACT_TERMS,
     Term("contact_layers", ("w_contact_pair",), "work of the node-node contacts of a compound "
          "mesh's layers", sign=-1, mechanism="friction: between the net's layers"),
 ) + budget.GROUND_TERMS

@@ -130,17 +130,18 @@ class Slope:
 
 
 def laid_positions(x, y, z, radius, slope, top_height):
-    """The flat panel's nodes laid on the slope: the top row (largest y) on the anchor line
-    top_height off the slope, the mesh from there straight down at HANG_ANGLE to the slope and
-    then on it (lengths along the mesh kept, up to the one kink), each layer at its own height
-    above the slope's contact."""
+    """The flat panel's nodes laid on the slope, and which of them lie on it: the top row
+    (largest y) on the anchor line top_height off the slope, the mesh from there straight down
+    at HANG_ANGLE to the slope and then on it (lengths along the mesh kept, up to the one kink),
+    each layer at its own height above the slope's contact."""
     s = y.max() - y                                   # distance from the top row along the mesh
     delta = math.radians(HANG_ANGLE)
     hang = top_height / math.sin(delta)               # the hanging length
-    up = -np.where(s <= hang, s * math.cos(delta), hang * math.cos(delta) + (s - hang))
-    off = np.where(s <= hang, top_height - s * math.sin(delta), 0.0)
+    on_slope = s > hang
+    up = -np.where(on_slope, hang * math.cos(delta) + (s - hang), s * math.cos(delta))
+    off = np.where(on_slope, 0.0, top_height - s * math.sin(delta))
     off = off + radius.max() + (z - z.min())
-    return slope.point(x, up, off)
+    return slope.point(x, up, off), on_slope
 
 
 def tilt_data(src, dst, positions, box):
@@ -213,7 +214,8 @@ class Setup:
         radius = data.atom("diameter") / 2
         self.node_r = float(radius.max())
         self.top_height = c["drapery.top_height"]
-        laid = laid_positions(x, y, z, radius, self.slope, self.top_height)
+        laid, on_slope = laid_positions(x, y, z, radius, self.slope, self.top_height)
+        self.foot = float(self.slope.coordinates(laid)[1].min())   # the mesh's lower edge
         self.width = float(x.max() - x.min())
         self.length = float(y.max() - y.min())      # along the mesh, from the top row down
         ids = data.atom_ids
@@ -222,17 +224,14 @@ class Setup:
         # bolts in the slope: the grid points where the laid mesh lies on it (the hanging part
         # near the top row has none)
         self.grid, self.grid_skipped = [], 0
-        hang = self.top_height / math.sin(math.radians(HANG_ANGLE)) * math.cos(
-            math.radians(HANG_ANGLE))
         for across, down in grid_points(self.width, self.length, c["drapery.anchor_spacing"]):
             d = np.hypot(x - (0.5 * (x.max() + x.min()) + across), (y.max() - y) - down)
             d[top] = np.inf
             k = int(np.argmin(d))
-            _, up, _ = self.slope.coordinates(laid[k])
-            if -up[0] <= hang:
-                self.grid_skipped += 1
-            else:
+            if on_slope[k]:
                 self.grid.append(int(ids[k]))
+            else:
+                self.grid_skipped += 1
         self.grid = sorted(set(self.grid))
         # the block: a face on the slope, up-slope of the anchor line, moving down it
         b = math.radians(c["drapery.slope"])
@@ -306,15 +305,14 @@ def anchor_peaks(path, positions, slope):
     return out
 
 
-def block_end(slope, table, length, top_height):
+def block_end(slope, table, foot):
     """Where the block ended and what that means: (facts, verdict). 'reached the foot': beyond
-    the mesh's lower edge; 'left the slope': more than 2 m off it; 'moving': still faster than
+    the mesh's lower edge (up-slope coordinate ``foot``); 'left the slope': more than 2 m off it; 'moving': still faster than
     0.1 m/s at the run's end (a longer drapery.duration tells); 'stopped under the mesh'
     otherwise."""
     p = np.column_stack([table["x"], table["y"], table["z"]])
     across, up, off = slope.coordinates(p)
     speed = math.sqrt(table["vx"][-1] ** 2 + table["vy"][-1] ** 2 + table["vz"][-1] ** 2)
-    foot = -(length + top_height)                     # the laid mesh's lower edge, up-slope
     if up[-1] < foot:
         verdict = "reached the foot"
     elif off.max() > 2.0:
@@ -422,7 +420,7 @@ class Drapery(CaseKind):
         if setup.grid:
             anchors["grid"] = anchor_peaks(os.path.join(workdir, "grid_anchors.txt"), positions,
                                            setup.slope)
-        end, verdict = block_end(setup.slope, t, setup.length, setup.top_height)
+        end, verdict = block_end(setup.slope, t, setup.foot)
         k_lift = int(np.argmax(t["lift"]))
         k_force = int(np.argmax(t["force_mean"]))
         closure = dict(closure_error=float(np.max(np.abs(error))), initial_energy=e0,

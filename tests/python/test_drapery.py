@@ -39,11 +39,11 @@ def test_laid_mesh_keeps_its_lengths_and_hangs_from_the_anchor_line(angle):
     slope = drapery.Slope(angle)
     y = np.linspace(0.0, -4.0, 81)                   # a line of nodes down the mesh, 5 cm apart
     x, z, r = np.zeros_like(y), np.zeros_like(y), np.full_like(y, 0.005)
-    p = drapery.laid_positions(x, y, z, r, slope, 0.6)
+    p, on_slope = drapery.laid_positions(x, y, z, r, slope, 0.6)
     across, up, off = slope.coordinates(p)
     assert up[0] == pytest.approx(0.0, abs=1e-12) and off[0] == pytest.approx(0.605)
     hang = 0.6 / math.sin(math.radians(drapery.HANG_ANGLE))
-    on_slope = -y > hang
+    assert np.array_equal(on_slope, -y > hang)
     assert np.allclose(off[on_slope], 0.005, atol=1e-12)     # touching the slope, not in it
     gaps = np.linalg.norm(np.diff(p, axis=0), axis=1)
     straight = np.abs(np.diff(on_slope.astype(int))) == 0  # the one segment over the kink is a chord
@@ -89,6 +89,7 @@ def test_tilt_data_rewrites_positions_and_box_only(tmp_path):
     ("[supports]\nleft = \"pinned\"\n", "supports.left"),
     ("gravity = 0.0\n", "gravity"),
     ("[drapery]\nblock_mass = nan\n", "drapery.block_mass"),
+    ("[drapery]\nblock_side = 15.0\n", "drapery.block_side"),
 ])
 def test_bad_drapery_keys_get_one_line(tmp_path, text, key):
     bad = tmp_path / "bad.toml"
@@ -132,6 +133,10 @@ def test_quick_example_closes_its_budget_and_the_block_runs_under_the_mesh(quick
     # the block went down the slope into the gap under the mesh and pushed it off the slope
     end = m["block_end"]
     assert end["travel"] > 0.5 and end["up"] < 0.0 and abs(end["across"]) < 1e-4
+    # the mesh's foot: 3 m of mesh, 1.8 m hanging at 30 degrees to the slope, the rest on it
+    hang = 0.9 / math.sin(math.radians(drapery.HANG_ANGLE))
+    assert end["mesh_foot"] == pytest.approx(-(hang * math.cos(math.radians(30)) + 3.0 - hang),
+                                             abs=0.02)
     assert m["peak_block_force"] > 0 and m["bulge_peak"] > 0.01
     # the anchors: the top row where the case puts it, the bolts on the slope, symmetric loads
     top = m["anchors"]["top"]

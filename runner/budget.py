@@ -27,8 +27,8 @@ class Term:
     mechanism: str = ""  # the report's group: the name of the mechanism it belongs to
 
 
-# The terms of every block-on-net case that a kind does not word its own way (fence, drapery):
-# ruptures, the two dampings and the block's contact with the net
+# The terms every block-on-net case shares (impact, fence, drapery): ruptures, the two
+# dampings and the block's contact with the net
 RUPTURE_DAMPING_CONTACT_TERMS = (
     Term("e_released", ("e_released",), "elastic energy released at ruptures",
          mechanism="ruptures"),

@@ -89,18 +89,7 @@ BUDGET = (
          stored=True, dissipative=False),
     Term("w_plastic", ("w_plastic",), "plastic work of the wires (fix wirenet/bonds)",
          mechanism="plasticity"),
-    Term("e_released", ("e_released",), "elastic energy released by broken bonds",
-         mechanism="ruptures"),
-    Term("damping", ("w_damping",), "work of the local damping (fix wirenet/damping)", sign=-1,
-         mechanism="local damping (to ground)"),
-    Term("bond_damping", ("w_bond_damping",), "energy dissipated by bond damping",
-         mechanism="structural damping (bonds)"),
-    Term("e_contact", ("e_contact_block",), "energy stored in the block's contact springs "
-         "(fix wirenet/body)", stored=True, dissipative=False),
-    Term("friction_block", ("w_contact_block", "w_contact_net"), "dissipated by the block's "
-         "contacts with the net: friction and normal damping (minus their work on block and "
-         "nodes, less the energy their springs hold)", sign=-1, less=("e_contact_block",),
-         mechanism="friction: block on net"),
+    *budget.RUPTURE_DAMPING_CONTACT_TERMS,
     Term("contact_layers", ("w_contact_pair",), "work of the node-node contacts between the "
          "layers of a compound panel (fix wirenet/contactwork pair): friction; their springs' "
          "energy is below 1e-5 J a contact", sign=-1,

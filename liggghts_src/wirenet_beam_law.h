@@ -1,12 +1,13 @@
 /* WireNet: parallel-bond beam law (Potyondy & Cundall 2004) for strand ropes, in a corotational
    form that is exact for rigid rotations and conservative at any bending (forces and moments are
-   the exact gradient of the strain energy). No LIGGGHTS dependency. */
+   the exact gradient of the strain energy, which is continuous through a half turn: fade()). No LIGGGHTS dependency. */
 
 #ifndef WIRENET_BEAM_LAW_H
 #define WIRENET_BEAM_LAW_H
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
@@ -242,6 +243,79 @@ template <typename T> inline bool bend(const V<T> &e, const V<T> &r, Bend<T> &b)
   return exact_bend(s2, b.co, b.f, b.g);
 }
 
+// Beyond a quarter turn (one end bent more than 90 degrees from the chord, or twisted more than
+// 90 degrees), which no element of a net carries in earnest but a torn rope's whipping free end
+// reaches, the law is regularised so that its energy stays smooth through the half turn, where
+// an end's theta (or phi) is undefined and flips as the end passes it. Before, theta_i.theta_j
+// jumped there and the energy with it: an end spun through half turns gained 113 % of its
+// energy in 0.2 s, whatever the step (the 500 kJ fences' open budgets, doc/fence.md).
+//  - each end's own energy kp theta^2 / 2 becomes kp g(theta), g(a) = a^2 / 2 up to a quarter
+//    turn, then the parabola with g' = pi - a: C1, its largest value pi^2 / 4 at the half turn
+//    with zero slope (the moment fades to 0 there instead of flipping from kp pi to -kp pi);
+//  - the ends' coupling X = th_i.(km th_j) is weighted by W = w_i w_j, w = 1 up to a quarter
+//    turn and sin^4(angle) beyond it (C1, 0 with zero slope at the half turn).
+// Below a quarter turn every end is exactly the law it was. h = g'(a) / a scales an end's own
+// moment; a = (dW/d|th|) / |th|, so that dE/dth_i = kp h_i th_i + W km th_j + X a_i th_i;
+// extra = the energy the quadratic form (m_i.th_i + m_j.th_j) / 2 misses, kp (g - h a^2 / 2).
+// A pair of bonds exists only where both took the small-angle series (co > 0): nothing beyond.
+template <typename T> struct Beyond { T W, ai, aj, hi, hj, extra; };
+
+// g(a) and h = g'(a) / a of an angle a >= 0
+inline void soften(double a, double &g, double &h)
+{
+  const double q = 0.5 * M_PI, u = a - q;
+  if (u <= 0.0) { g = 0.5 * a * a; h = 1.0; return; }
+  g = 0.5 * q * q + q * u - 0.5 * u * u;
+  h = (M_PI - a) / a;
+}
+inline void beyond(const Bend<Lanes> &, const Bend<Lanes> &, Lanes, Beyond<Lanes> &z)
+{
+  z.W = z.hi = z.hj = Lanes{ 1.0, 1.0 };
+  z.ai = z.aj = z.extra = Lanes{ 0.0, 0.0 };
+}
+inline void beyond(const Bend<double> &bi, const Bend<double> &bj, double kp, Beyond<double> &z)
+{
+  z.W = z.hi = z.hj = 1.0;
+  z.ai = z.aj = z.extra = 0.0;
+  if (bi.co >= 0.0 && bj.co >= 0.0) return;
+  // w = sin^4 = (s^2)^2 and dw/dangle / angle = 4 s^3 co / (f s) = 4 s^2 co / f (theta = f c)
+  const double si = dot(bi.c, bi.c), sj = dot(bj.c, bj.c);
+  const double wi = bi.co >= 0.0 ? 1.0 : si * si, wj = bj.co >= 0.0 ? 1.0 : sj * sj;
+  const double di = bi.co >= 0.0 || bi.f == 0.0 ? 0.0 : 4.0 * si * bi.co / bi.f;
+  const double dj = bj.co >= 0.0 || bj.f == 0.0 ? 0.0 : 4.0 * sj * bj.co / bj.f;
+  z.W = wi * wj;
+  z.ai = di * wj;
+  z.aj = dj * wi;
+  // the ends' angles: |theta| = f s (f = 0 only at an exact half turn)
+  const double ti = bi.f == 0.0 ? M_PI : bi.f * std::sqrt(si), tj = bj.f == 0.0 ? M_PI : bj.f * std::sqrt(sj);
+  double gi, gj;
+  soften(ti, gi, z.hi);
+  soften(tj, gj, z.hj);
+  z.extra = kp * (gi - 0.5 * z.hi * ti * ti + gj - 0.5 * z.hj * tj * tj);
+}
+
+// The twist's fade where an end's reference normal turns towards the chord: psi(rho) = 1 for
+// rho >= 1/4, the smoothstep u^2 (3 - 2 u) of u = 4 rho below (C1, 0 with zero slope at rho = 0);
+// dpsi = dpsi/drho. A pair of bonds bends less than the series' 3 degrees: rho is near 1 there.
+inline void fade_twist(Lanes, Lanes &psi, Lanes &dpsi)
+{
+  psi = Lanes{ 1.0, 1.0 };
+  dpsi = Lanes{ 0.0, 0.0 };
+}
+inline void fade_twist(double rho, double &psi, double &dpsi)
+{
+  const double u = 4.0 * rho;
+  psi = u >= 1.0 ? 1.0 : u * u * (3.0 - 2.0 * u);
+  dpsi = u >= 1.0 ? 0.0 : 24.0 * u * (1.0 - u);
+}
+// The twist's energy kt g(|phi|) (soften(); a pair twists little): g and the moment's factor h
+inline void soften_twist(Lanes, Lanes &g, Lanes &h, Lanes phi)
+{
+  g = 0.5 * phi * phi;
+  h = Lanes{ 1.0, 1.0 };
+}
+inline void soften_twist(double phi, double &g, double &h, double) { soften(std::fabs(phi), g, h); }
+
 // The bending energy's gradient through one end (moment m = dE/dtheta of that end): adds
 // dE/de to ge and returns the torque -r x dE/dr on the end's node. With theta = f c:
 // dE = G.dc + h d(co), G = f m + g (m.c) c, h = -(m.c), dc = de x r + e x dr, d(co) = r.de + e.dr.
@@ -285,8 +359,9 @@ inline __attribute__((always_inline)) bool BeamLaw::kernel(const BeamConst<T> &b
   const V<T> e = { d.x * inv_L, d.y * inv_L, d.z * inv_L };
 
   // The law is the exact gradient of its energy E = ka (L - l0)^2 / 2 + (theta_i.m_i +
-  // theta_j.m_j) / 2 + kt phi^2 / 2 (forces -dE/dx, torques -dE/dphi), so that it conserves
-  // energy at any bending and twist; at small angles it is the linear corotational beam.
+  // theta_j.m_j) / 2 + kt phi^2 / 2 (forces -dE/dx, torques -dE/dphi; m with the ends' coupling
+  // faded beyond a quarter turn), so that it conserves energy at any bending and twist; at small
+  // angles it is the linear corotational beam.
   // end rotations relative to the chord
   const V<T> ri = mul(n.ri, b.di), rj = mul(n.rj, b.dj);
   Bend<T> bi, bj;
@@ -302,8 +377,13 @@ inline __attribute__((always_inline)) bool BeamLaw::kernel(const BeamConst<T> &b
   T phi;
   if (!angle(ty, tx, phi)) return false;
 
-  // bending moments Kb (th_i - th_j) + Cs (th_i + th_j) at both ends
-  V<T> m_i = lin(b.kp, th_i, b.km, th_j), m_j = lin(b.kp, th_j, b.km, th_i);
+  // bending moments Kb (th_i - th_j) + Cs (th_i + th_j) at both ends, the ends' coupling km
+  // faded beyond a quarter turn (fade())
+  Beyond<T> far;
+  beyond(bi, bj, b.kp, far);
+  const T kmW = b.km * far.W;
+  V<T> m_i = lin(b.kp * far.hi, th_i, kmW, th_j), m_j = lin(b.kp * far.hj, th_j, kmW, th_i);
+  T X = b.km * dot(th_i, th_j);  // the coupling energy before the fade
   V<T> ge = { T{}, T{}, T{} };  // dE/de
   V<T> tq_i = { T{}, T{}, T{} }, tq_j = tq_i;
   if constexpr (SECTION) {
@@ -319,12 +399,14 @@ inline __attribute__((always_inline)) bool BeamLaw::kernel(const BeamConst<T> &b
     const T yi = dot(y, th_i), yj = dot(y, th_j);
     const V<T> di = lin(yi, y, -dot(z, th_i), z);
     const V<T> dj = lin(yj, y, -dot(z, th_j), z);
-    const V<T> ci = lin(s->kpd, di, s->kmd, dj), cj = lin(s->kpd, dj, s->kmd, di);
+    const T kmdW = s->kmd * far.W;
+    X = X + s->kmd * dot(th_i, dj);
+    const V<T> ci = lin(s->kpd, di, kmdW, dj), cj = lin(s->kpd, dj, kmdW, di);
     m_i = { m_i.x + ci.x, m_i.y + ci.y, m_i.z + ci.z };
     m_j = { m_j.x + cj.x, m_j.y + cj.y, m_j.z + cj.z };
     // the energy's dependence on y = P a / |P a|: dE/dy = q, its part normal to y over |P a| is
     // p; dE = p.(dni + dnj) - (e.a) p.de (p is normal to e)
-    const T qi = 2.0 * (s->kpd * yi + s->kmd * yj), qj = 2.0 * (s->kpd * yj + s->kmd * yi);
+    const T qi = 2.0 * (s->kpd * yi + kmdW * yj), qj = 2.0 * (s->kpd * yj + kmdW * yi);
     V<T> q = lin(qi, th_i, qj, th_j);
     const T qy = dot(q, y);
     const V<T> p = { (q.x - qy * y.x) * inv_u, (q.y - qy * y.y) * inv_u, (q.z - qy * y.z) * inv_u };
@@ -332,13 +414,29 @@ inline __attribute__((always_inline)) bool BeamLaw::kernel(const BeamConst<T> &b
     tq_i = cross(p, ni);
     tq_j = cross(p, nj);
   }
+  // the bending energy: half moments times rotations (a quadratic form below a quarter turn)
+  const T e_bend = 0.5 * (dot(m_i, th_i) + dot(m_j, th_j)) + far.extra;
+  // the fade's own gradient (zero below a quarter turn, and always in a pair of bonds)
+  if constexpr (std::is_same<T, double>::value) {
+    if (far.ai != 0.0 || far.aj != 0.0) {
+      m_i = lin(1.0, m_i, X * far.ai, th_i);
+      m_j = lin(1.0, m_j, X * far.aj, th_j);
+    }
+  }
   const V<T> bi_t = bend_gradient(e, ri, bi, m_i, ge), bj_t = bend_gradient(e, rj, bj, m_j, ge);
   // twist: dE = tw dphi, dphi = (tx dty - ty dtx) / (tx^2 + ty^2)
-  const T tw = b.kt * phi;
+  // The twist fades where an end's reference normal turns towards the chord (rho = tx^2 + ty^2
+  // = |P ni|^2 |P nj|^2 below 1/4, a bend beyond 60 degrees about an axis across the normal):
+  // at rho = 0 phi is undefined and jumped, and the twist energy with it (fade_twist()).
+  T psi, dpsi, gt, ht;
+  fade_twist(tx * tx + ty * ty, psi, dpsi);
+  soften_twist(phi, gt, ht, phi);
+  const T tw = psi * b.kt * ht * phi;  // the twist moment: energy psi kt g(|phi|)
   {
-    // (an end's reference normal along the chord, a 90-degree bend, leaves the twist undefined:
-    // the floor keeps its derivative finite there)
-    const T w = tw / larger(tx * tx + ty * ty, T{} + 1e-24), wx = w * tx, wy = w * ty;
+    // dE = tw dphi + kt g psi' drho, dphi = (tx dty - ty dtx) / rho, drho = 2 (tx dtx
+    // + ty dty): dE = wx dty - wy dtx (the floor keeps rho = 0 finite where psi is 0 anyway)
+    const T w = tw / larger(tx * tx + ty * ty, T{} + 1e-24), k = 2.0 * b.kt * gt * dpsi;
+    const T wx = w * tx + k * ty, wy = w * ty - k * tx;
     // dE/de, dE/dni, dE/dnj of the twist; torques -n x dE/dn
     ge = { ge.x + wx * nixnj.x + wy * (enj * ni.x + eni * nj.x), ge.y + wx * nixnj.y + wy * (enj * ni.y + eni * nj.y),
            ge.z + wx * nixnj.z + wy * (enj * ni.z + eni * nj.z) };
@@ -381,7 +479,7 @@ inline __attribute__((always_inline)) bool BeamLaw::kernel(const BeamConst<T> &b
   }
   if constexpr (REPORT) {
     // half the generalised forces times their displacements
-    out.energy = 0.5 * (axial * (L - b.l0) + dot(m_i, th_i) + dot(m_j, th_j) + tw * phi);
+    out.energy = 0.5 * axial * (L - b.l0) + psi * b.kt * gt + e_bend;
   }
   return true;
 }

@@ -136,18 +136,22 @@ def test_restart_continues_exactly(tmp_path, np_, extra):
     assert np.abs(straight - resumed).max() <= 1e-12 * np.abs(straight).max()
 
 
-# A known defect (doc/bond_wirenet.md, "beam law"; doc/fence.md): as an end's tangent passes the
-# backward chord the axis of theta flips and theta_i . theta_j jumps, so an end spun through a
-# half turn gains energy whatever the step. strict: this fails loudly once the law is mended.
-@pytest.mark.xfail(strict=True, reason="beam energy jumps where an end bends through a half turn")
-@pytest.mark.parametrize("axis, spin", [("y", 40000.0)])
-def test_an_end_spun_through_a_half_turn_keeps_its_energy(tmp_path, axis, spin):
+# As an end's tangent passes the backward chord the axis of its theta flips, and theta_i.theta_j
+# jumped there: an end spun through half turns gained 113 % of its energy in 0.2 s at any step,
+# the source of the 500 kJ fences' open budgets (doc/fence.md). Beyond a quarter turn the law is
+# regularised (doc/bond_wirenet.md, "beam law"): bending (y), bending that turns the twist's
+# reference normal onto the chord (z) and twist (x) through half turns. (A general section's
+# anisotropic part is not regularised: a post's element never bends a quarter turn.)
+@pytest.mark.parametrize("axis, spin, coeff", [
+    ("y", 40000.0, "diameter 0.01"), ("z", 25000.0, "diameter 0.01"), ("x", 40000.0, "diameter 0.01")],
+    ids=["y", "z", "x"])
+def test_an_end_spun_through_a_half_turn_keeps_its_energy(tmp_path, axis, spin, coeff):
     d_node, l0, density = 0.01, 0.1, 8 * 7850.0     # the fence's rope node: 40 g, 10 mm
     atoms = [(1, 1, -l0 / 2, 0.0, 0.0, d_node, density, 1), (2, 1, l0 / 2, 0.0, 0.0, d_node, density, 1)]
     lmp.write_data(tmp_path / "pair.data", atoms, [(1, 1, 1, 2)], box=((-1, 1), (-1, 1), (-1, 1)))
     deck = lmp.PREAMBLE + f"""read_data pair.data
 bond_style wirenet
-bond_coeff 1 beam diameter 0.01 E 6e10 nu 0.3 bending 0.05 shear eb
+bond_coeff 1 beam {coeff} E 6e10 nu 0.3 bending 0.05 shear eb
 fix integrate all nve/sphere
 timestep 5e-7
 run 0
@@ -162,4 +166,4 @@ thermo 100
 run 100000
 """
     energy = np.array([r["e"] for r in lmp.thermo_rows(lmp.run_deck(deck, tmp_path))[1:]])
-    assert np.abs(energy - energy[0]).max() < 1e-3 * energy[0]
+    assert np.abs(energy - energy[0]).max() < 2e-4 * energy[0]

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 from . import kinds
 from .errors import CaseFileError
 from .params import is_computed
-from .schema import BY_PATH, KEYS, LIST_SECTIONS, SECTIONS, applies, default_of, takers
+from .schema import BY_PATH, KEYS, LIST_SECTIONS, SECTIONS, applies, default_of, has_quick, takers
 
 __all__ = ["Case", "CaseFileError", "read", "parse", "apply_override"]
 
@@ -224,7 +224,7 @@ class Checker:
         kept = []
         for path in sorted(stated):
             key = BY_PATH.get(path)
-            if key is None or key.quick is None or key.per_item:
+            if key is None or not has_quick(key, kind) or key.per_item:
                 continue
             full = resolve({**values, path: default_of(key, kind, False)})[path]
             if values[path] == full:

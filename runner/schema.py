@@ -273,13 +273,21 @@ def unsourced(case):
 def default_of(key, kind, quick=False):
     """The key's default for a case of this kind (a value, ByKey or Derived), --quick's where it
     has one. A kind's own default stands in --quick too (a tensile strip is smaller than the
-    quick panel)."""
-    own = kinds.BY_NAME[kind].defaults
-    if key.path in own:
-        return own[key.path]
+    quick panel), unless the kind states its own --quick default as well."""
+    k = kinds.BY_NAME[kind]
+    if quick and key.path in k.quick_defaults:
+        return k.quick_defaults[key.path]
+    if key.path in k.defaults:
+        return k.defaults[key.path]
     if quick and key.quick is not None:
         return key.quick
     return key.default
+
+
+def has_quick(key, kind):
+    """Whether --quick changes the key's default for a case of this kind."""
+    return key.path in kinds.BY_NAME[kind].quick_defaults or (
+        key.quick is not None and key.path not in kinds.BY_NAME[kind].defaults)
 
 
 def defaults_by_kind(key):
@@ -288,4 +296,4 @@ def defaults_by_kind(key):
 
 
 __all__ = ["KEYS", "BY_PATH", "SECTIONS", "LIST_SECTIONS", "PAPER", "ByKey", "applies", "takers",
-           "default_of", "defaults_by_kind", "source_of", "unsourced"]
+           "default_of", "has_quick", "defaults_by_kind", "source_of", "unsourced"]

@@ -77,10 +77,15 @@ def _default_text(key):
         text = _value_text(values[0])
     else:
         text = ", ".join(f"{k}: {_value_text(v)}" for k, v in by_kind.items())
+    quick = kinds_with_quick(key)
     if key.quick is not None:
-        own = [k.name for k in kinds_with_own(key)]
+        own = [k.name for k in kinds_with_own(key) if k not in quick]
         text += f" (--quick: {_value_text(key.quick)}" + (
-            f"; {', '.join(own)}: {'its' if len(own) == 1 else 'their'} own" if own else "") + ")"
+            f"; {', '.join(own)}: {'its' if len(own) == 1 else 'their'} own" if own else "") + (
+            "".join(f"; {k.name}: {_value_text(k.quick_defaults[key.path])}" for k in quick)) + ")"
+    elif quick:
+        text += " (--quick: " + "; ".join(f"{k.name}: {_value_text(k.quick_defaults[key.path])}"
+                                          for k in quick) + ")"
     return text.replace("|", "\\|")
 
 
@@ -97,6 +102,12 @@ def kinds_with_own(key):
     """The kinds that state their own default of the key (it stands in --quick too)."""
     from . import kinds
     return [k for k in kinds.ALL if key.path in k.defaults and applies(key, k.name)]
+
+
+def kinds_with_quick(key):
+    """The kinds that state their own --quick default of the key."""
+    from . import kinds
+    return [k for k in kinds.ALL if key.path in k.quick_defaults and applies(key, k.name)]
 
 
 def kind_names():

@@ -47,6 +47,8 @@ class CaseKind:
     takes = ()             # fnmatch patterns of every key it takes (its own and shared ones)
     defaults = {}          # its own defaults of shared keys: {path: value, ByKey or Derived}
     default_sources = {}   # the sources of those of its own defaults that are not the key's
+    quick_defaults = {}    # its own --quick defaults of shared keys (a drapery's quick mesh is
+                           # smaller than its full 10 m one, larger than the quick panel)
     not_taken = ""         # why a shared key it does not take is refused (completes the message)
     finished_file = ""     # the CSV of a case folder that shows the unit ended (resume)
     width = 1              # LIGGGHTS runs of a unit at the same time (the study's scheduler)

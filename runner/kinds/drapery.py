@@ -60,12 +60,12 @@ KEYS = (
              "it; gravity stays vertical)", EXAMPLE, low=0.0, low_open=True, high=89.0),
     _drapery("top_height", "number", 1.0, "m", "height of the top anchor line above the slope "
              "(the gap the block enters under the mesh)", EXAMPLE + ": a design choice",
-             low=0.05, high=10.0),
+             low=0.05, high=10.0, quick=0.9),
     _drapery("anchor_spacing", "number", 3.0, "m", "spacing of the grid anchors below the top "
              "row (across and down the slope, the centre line between two columns; the node "
              "nearest each grid point is bolted to the slope from the start; none where the "
              "laid mesh hangs above the slope); 0: the top row only", EXAMPLE + " (a 3 m grid)",
-             low=0.0, high=100.0),
+             low=0.0, high=100.0, quick=1.0),
     _drapery("block_mass", "number", 500.0, "kg", "block mass (a truncated cube)", EXAMPLE,
              low=1.0, high=1e6),
     _drapery("block_side", "number", Derived(
@@ -75,7 +75,7 @@ KEYS = (
         low=0.01, high=20.0),
     _drapery("release_distance", "number", 5.0, "m", "where the block starts: up-slope "
              "distance from the top anchor line, on the slope", EXAMPLE + " (5 m upslope)",
-             low=0.0, high=1000.0),
+             low=0.0, high=1000.0, quick=0.5),
     _drapery("release_speed", "number", 0.0, "m/s", "the block's speed down the slope at "
              "release", EXAMPLE + " (released at rest)", low=0.0, high=100.0, quick=6.0),
     _drapery("point_x", "number", 0.0, "m", "the block's path across the slope: offset from "
@@ -338,6 +338,9 @@ class Drapery(CaseKind):
                 "damping.local": 0.0, "damping.bond": dissipation.STRUCTURAL_ZETA}
     default_sources = {"panel.width": EXAMPLE, "panel.height": EXAMPLE, "panel.net": EXAMPLE,
                        "damping.bond": dissipation.STRUCTURAL_ZETA_SOURCE}
+    # --quick: a 2.4 m x 3 m strip with anchors every metre, the block released 0.5 m upslope at
+    # 6 m/s (drapery.release_speed), so that it reaches the mesh within the quick 0.15 s
+    quick_defaults = {"panel.width": 2.4, "panel.height": 3.0}
     finished_file = "block.csv"
 
     @classmethod

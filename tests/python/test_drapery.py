@@ -2,7 +2,7 @@
 bolted to the slope on a grid, hit by a block from upslope. Checked: the laying of the flat
 panel onto the slope (lengths along the mesh kept, the anchors where the case puts them), the
 grid (symmetric, the centre line between two columns), the data file's rewrite, bad keys, and
-the example of docs/examples run as a user types it in its quick form: the budget closing with
+the example of docs/examples run as a user types it with --quick (the kind's quick mesh): the budget closing with
 every term by its own mechanism, the block under the mesh, symmetric bolt loads."""
 
 import json
@@ -20,9 +20,6 @@ from runner.kinds import drapery
 
 DRIVER = lmp.ROOT / "wirenet"
 EXAMPLE = lmp.ROOT / "docs" / "examples" / "drapery.toml"
-QUICK_FORM = ("--set", "panel.width=2.4", "--set", "panel.height=3", "--set",
-              "drapery.anchor_spacing=1", "--set", "drapery.top_height=0.9", "--set",
-              "drapery.release_distance=0.5")
 
 
 def driver(*args, out=None):
@@ -108,12 +105,24 @@ def test_example_defaults_are_the_issues_case():
     assert case["damping.local"] == 0.0 and case["damping.bond"] > 0      # the physical model
 
 
+def test_quick_is_the_kinds_small_strip_and_a_stated_size_is_kept(tmp_path):
+    """--quick on the example (which states the full defaults) gives the kind's quick strip, not
+    the 10 m mesh (the kind's own default stood in --quick before) nor the 1.2 m quick panel;
+    a size the user chose stays."""
+    case = casefile.read(str(EXAMPLE), quick=True)
+    assert (case["panel.width"], case["panel.height"]) == (2.4, 3.0)
+    assert (case["drapery.anchor_spacing"], case["drapery.top_height"],
+            case["drapery.release_distance"]) == (1.0, 0.9, 0.5)
+    chosen = casefile.read(str(EXAMPLE), overrides=["panel.width=4"], quick=True)
+    assert chosen["panel.width"] == 4.0 and chosen["panel.height"] == 3.0
+
+
 # ---- the example, quick ---------------------------------------------------------------------
 
 @pytest.fixture(scope="module")
 def quick_example(tmp_path_factory):
     out = tmp_path_factory.mktemp("drapery")
-    p = driver(EXAMPLE, "--quick", *QUICK_FORM, out=out)
+    p = driver(EXAMPLE, "--quick", out=out)
     assert p.returncode == 0, p.stderr[-2000:]
     return out
 

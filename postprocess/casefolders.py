@@ -20,6 +20,7 @@ TABLES = {
     "platter": ("platter.csv", ("time", "displacement", "force")),
     "block": ("block.csv", ("time", "x", "y", "z", "vx", "vy", "vz", "force")),
     "beam": ("beam.csv", ("elements", "load", "tip_deflection", "analytic_deflection", "nrmse")),
+    "tensile": ("tensile.csv", ("time", "displacement", "force")),
 }
 LINE_FILES = ("deflection.csv", "beam_line.csv")
 

@@ -7,8 +7,8 @@ the same frame:
 - the frame: punch (and calibration) cases, the frame nearest the peak platter force before the
   first rupture (platter.csv, case.json ``first_rupture``; frames after the first rupture are
   not used unless there is no other), else the end; impact cases, the frame nearest the block's
-  lowest point (block.csv); without those tables (a tensile case: the strip at its peak,
-  doc/tensile.md), the frame with the largest bond tension;
+  lowest point (block.csv), a tensile case's peak clamp force (tensile.csv); without those
+  tables, the frame with the largest bond tension;
 - intact bonds in tension coloured by their tension (colour bar in N, from 0 to the largest
   tension of the frame), compressive or slack bonds thin grey, broken bonds (in the data file,
   missing from the frame) a red cross at their midpoint;
@@ -83,6 +83,12 @@ def select_frame(case, times):
             reason="lowest point of the block", target_time=float(table["time"][k]),
             max_travel=float(table["z"][0] - table["z"][k]),
             peak_force=float(np.max(np.abs(table["force"]))))
+    if kind == "tensile" and "tensile" in tables:
+        table = tables["tensile"]
+        k = int(np.argmax(table["force"]))
+        return _nearest(times, table["time"][k]), dict(
+            reason="peak clamp force", target_time=float(table["time"][k]),
+            peak_force=float(table["force"][k]), peak_displacement=float(table["displacement"][k]))
     return None, dict(reason="largest bond tension")
 
 

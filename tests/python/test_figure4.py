@@ -92,6 +92,12 @@ def make_case(root, name, kind="impact"):
         z = 0.5 - times
         (case / "block.csv").write_text("time,x,y,z,vx,vy,vz,force\n" + "".join(
             f"{t!r},0,0,{zz!r},0,0,-1,{1000 * t!r}\n" for t, zz in zip(times, z)))
+    elif kind == "tensile":
+        # the clamp force peaks at t = 0.1 s; the bonds' largest tension is in the last frame
+        force = 1000.0 * np.minimum(times, 0.2 - times)
+        (case / "tensile.csv").write_text("time,displacement,force\n" + "".join(
+            f"{t!r},{0.01 * t!r},{f!r}\n" for t, f in zip(times, force)))
+        (case / "case.json").write_text('{"status": "ok", "kind": "tensile", "dt": %r}' % DT)
     else:
         # the platter force peaks at t = 0.2 s; the first rupture comes after it
         force = 1000.0 * np.minimum(times, 0.4 - times)
@@ -253,6 +259,19 @@ def test_figure4_punch_uses_the_peak_before_the_first_rupture(tmp_path):
         (0.0, data["tension"].max()))
     from postprocess import canvas
     canvas.pyplot().close(fig)
+
+
+def test_figure4_tensile_uses_the_peak_clamp_force(tmp_path):
+    """A tensile case's frame is the one nearest its peak clamp force (tensile.csv), not the one
+    with the largest bond tension (the last frame here, as after the peak of a real strip whose
+    clamps have moved on)."""
+    case_dir = make_case(tmp_path, "tensile_grid", kind="tensile")
+    write_series(case_dir)
+    case = casefolders.load_case(str(case_dir))
+    assert case.kind == "tensile"
+    data = figure4.load(case)
+    assert data["time"] == pytest.approx(0.1)
+    assert "peak clamp force" in data["title"]
 
 
 def test_study_figures_draw_figure4_for_every_case_with_a_series(tmp_path):

@@ -66,6 +66,12 @@ KEYS = (
              "nearest each grid point is bolted to the slope from the start; none where the "
              "laid mesh hangs above the slope); 0: the top row only", EXAMPLE + " (a 3 m grid)",
              low=0.0, high=100.0, quick=1.0),
+    _drapery("plate_radius", "number", 0.0, "m", "secured drapery: the radius of each grid "
+             "bolt's plate; every node of the laid mesh within it of the bolt's node is held "
+             "with it (the plate pressing the mesh onto the slope), and the bolt's load is their "
+             "sum; 0: the bolt holds its one node", "unverified: spike plates of secured drapery "
+             "systems are 0.2-0.35 m across (manufacturers' data sheets, e.g. a 330 x 200 mm "
+             "plate; not read)", low=0.0, high=5.0),
     _drapery("block_mass", "number", 500.0, "kg", "block mass (a truncated cube)", EXAMPLE,
              low=1.0, high=1e6),
     _drapery("block_side", "number", Derived(
@@ -142,6 +148,17 @@ def laid_positions(x, y, z, radius, slope, top_height):
     off = np.where(on_slope, 0.0, top_height - s * math.sin(delta))
     off = off + radius.max() + (z - z.min())
     return slope.point(x, up, off), on_slope
+
+
+def plates(ids, laid, free, bolts, radius):
+    """{bolt id: [node ids its plate holds]}: the bolt's node and the nodes of the laid mesh
+    (``free``: on the slope, not the top row) within ``radius`` of it."""
+    row = {int(atom): k for k, atom in enumerate(ids)}
+    out = {}
+    for bolt in bolts:
+        near = np.linalg.norm(laid - laid[row[bolt]], axis=1) <= radius
+        out[bolt] = sorted({bolt} | {int(a) for a in ids[near & free]})
+    return out
 
 
 def tilt_data(src, dst, positions, box):
@@ -233,6 +250,8 @@ class Setup:
             else:
                 self.grid_skipped += 1
         self.grid = sorted(set(self.grid))
+        # secured drapery: each bolt's plate holds the laid nodes within its radius
+        self.plates = plates(ids, laid, on_slope & ~top, self.grid, c["drapery.plate_radius"])
         # the block: a face on the slope, up-slope of the anchor line, moving down it
         b = math.radians(c["drapery.slope"])
         quat = (math.cos(b / 2), math.sin(b / 2), 0.0, 0.0)
@@ -247,7 +266,8 @@ class Setup:
         self.data_path = os.path.join(workdir, "drapery.data")
         tilt_data(self.panel.data_path, self.data_path, laid, box)
         self.anchors_path = os.path.join(workdir, "anchors.in")
-        write_group(self.anchors_path, {"top_anchors": self.top_ids, "grid_anchors": self.grid})
+        write_group(self.anchors_path, {"top_anchors": self.top_ids, "grid_anchors": sorted(
+            m for members in self.plates.values() for m in members)})
         self.dt = c["drapery.dt_fraction"] * timestep.of_panel(
             self.panel, dict(kind.key_variables(), bending=repr(bending)), workdir).loaded
         self.node_masses = self.panel.masses
@@ -291,17 +311,22 @@ def read_table(workdir):
             "top_x", "top_y", "top_z", "grid_x", "grid_y", "grid_z", "lift", "gap"}))
 
 
-def anchor_peaks(path, positions, slope):
+def anchor_peaks(path, positions, slope, plates=None):
     """{anchor id: peak window-mean force [N], its time step, where it is (across, up-slope,
-    off the slope)} of a fix wirenet/hold ... each table (top_anchors.txt, grid_anchors.txt)."""
+    off the slope), the nodes it holds} of a fix wirenet/hold ... each table (top_anchors.txt,
+    grid_anchors.txt); ``plates`` {anchor id: [node ids]}: an anchor's force is the vector sum
+    of its plate's nodes' (each node its own anchor without)."""
     steps, ids, forces = netoutputs.read_support_rows(path)
-    magnitude = np.linalg.norm(forces, axis=2)
+    column = {int(atom): k for k, atom in enumerate(ids)}
+    plates = plates or {atom: [atom] for atom in column}
     out = {}
-    for k, atom in enumerate(ids):
-        j = int(np.argmax(magnitude[:, k]))
+    for atom, members in plates.items():
+        magnitude = np.linalg.norm(forces[:, [column[m] for m in members], :].sum(axis=1), axis=1)
+        j = int(np.argmax(magnitude))
         across, up, off = slope.coordinates(positions[int(atom)])
-        out[int(atom)] = dict(force=float(magnitude[j, k]), step=int(steps[j]),
-                              across=float(across[0]), up=float(up[0]), off=float(off[0]))
+        out[int(atom)] = dict(force=float(magnitude[j]), step=int(steps[j]),
+                              across=float(across[0]), up=float(up[0]), off=float(off[0]),
+                              nodes=len(members))
     return out
 
 
@@ -355,6 +380,11 @@ class Drapery(CaseKind):
                                        "gap")
         if not case["gravity"] > 0:
             fail("gravity", "a drapery hangs and its block falls under gravity: gravity > 0")
+        plate, spacing = case["drapery.plate_radius"], case["drapery.anchor_spacing"]
+        if plate > 0 and not 2 * plate < spacing:
+            fail("drapery.plate_radius", f"{plate:g} m: plates need a grid whose bolts they do not "
+                                         f"overlap (drapery.anchor_spacing {spacing:g} m > 2 x "
+                                         "plate_radius)")
 
     def weight(self):
         return 20
@@ -388,6 +418,8 @@ class Drapery(CaseKind):
                      dt=setup.dt, steps=setup.steps, duration=setup.duration,
                      relax_steps=setup.relax_steps, nodes=int(len(setup.node_masses)),
                      grid_anchors=len(setup.grid), grid_points_hanging=setup.grid_skipped,
+                     plate_radius=c["drapery.plate_radius"],
+                     plate_nodes=[len(m) for m in setup.plates.values()],
                      net_mass=float(np.sum(setup.node_masses)), run_wall_time=wall,
                      post_wall_time=time.time() - start - wall)
         return facts
@@ -422,7 +454,7 @@ class Drapery(CaseKind):
                                        setup.slope)}
         if setup.grid:
             anchors["grid"] = anchor_peaks(os.path.join(workdir, "grid_anchors.txt"), positions,
-                                           setup.slope)
+                                           setup.slope, setup.plates)
         end, verdict = block_end(setup.slope, t, setup.foot)
         k_lift = int(np.argmax(t["lift"]))
         k_force = int(np.argmax(t["force_mean"]))

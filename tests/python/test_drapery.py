@@ -87,6 +87,8 @@ def test_tilt_data_rewrites_positions_and_box_only(tmp_path):
     ("gravity = 0.0\n", "gravity"),
     ("[drapery]\nblock_mass = nan\n", "drapery.block_mass"),
     ("[drapery]\nblock_side = 15.0\n", "drapery.block_side"),
+    ("[drapery]\nplate_radius = 1.6\n", "drapery.plate_radius"),      # plates overlap (3 m grid)
+    ("[drapery]\nplate_radius = -0.1\n", "drapery.plate_radius"),
 ])
 def test_bad_drapery_keys_get_one_line(tmp_path, text, key):
     bad = tmp_path / "bad.toml"
@@ -162,3 +164,26 @@ def test_quick_example_closes_its_budget_and_the_block_runs_under_the_mesh(quick
         assert (case / name).is_file(), name
     report = (quick_example / "report.md").read_text()
     assert "## Drapery cases" in report and "| drapery | hex | 60 |" in report
+
+
+def test_plates_hold_the_nodes_within_their_radius():
+    ids = np.arange(1, 8)
+    laid = np.array([[0, 0, 0], [0.1, 0, 0], [0.2, 0, 0], [0, -0.15, 0], [1, 0, 0], [1.1, 0, 0],
+                     [0, 0.1, 0]], float)
+    free = np.array([True] * 6 + [False])          # node 7: the top row or hanging
+    assert drapery.plates(ids, laid, free, [1, 5], 0.15) == {1: [1, 2, 4], 5: [5, 6]}
+    assert drapery.plates(ids, laid, free, [1], 0.0) == {1: [1]}
+
+
+def test_secured_quick_example_spreads_each_bolt_over_its_plate(tmp_path):
+    """Secured drapery (drapery.plate_radius): each bolt holds the nodes under its plate and its
+    load is their sum; the budget still closes and the two bolts' loads mirror each other."""
+    p = driver(EXAMPLE, "--quick", "--set", "drapery.plate_radius=0.15", out=tmp_path)
+    assert p.returncode == 0, p.stderr[-2000:]
+    m = json.loads((tmp_path / "drapery" / "case.json").read_text())
+    assert m["status"] == "ok" and m["plate_radius"] == 0.15
+    grid = m["anchors"]["grid"]
+    assert len(grid) == 2 and all(v["nodes"] > 1 for v in grid.values())
+    assert sorted(v["nodes"] for v in grid.values()) == sorted(m["plate_nodes"])
+    left, right = sorted(grid.values(), key=lambda v: v["across"])
+    assert left["force"] == pytest.approx(right["force"], rel=0.05) and left["force"] > 10.0

@@ -27,7 +27,10 @@ def _drop_words(drop):
 
 def _residual_mark(facts):
     """What the residual height in the fence table is marked with: measured at the impact's end,
-    or after a rest that ended at its time limit with the ropes still moving."""
+    or after a rest that ended at its time limit with the ropes still moving; a block that left
+    the fence moving on has no rest (the test failed)."""
+    if facts.get("rest_skipped"):
+        return " (end: block went on)"
     if facts["residual_height_at"] != "rest":
         return " (end)"
     return " (ropes still moving)" if facts.get("rest_settled") is False else ""
@@ -40,7 +43,8 @@ FENCE_NOTE = (
     "fence never turns, and its braking distance is how far it flew); residual "
     "height = least vertical distance between top and bottom support rope over the middle module "
     "after the block and the fence have come to rest (fence.rest_time; marked 'end' where it "
-    "was measured at the end of the impact; 'ropes still moving' where the rest ended at its "
+    "was measured at the end of the impact, 'end: block went on' where the block left the fence "
+    "moving on, a failed test with no rest to find; 'ropes still moving' where the rest ended at its "
     "time limit with the middle module's ropes still moving), over the nominal height (the guideline's "
     "categories: A >= 50 %, B 30-50 %, C < 30 %); an SEL case (fence.impacts = 2) has a second "
     "row for the second impact on the unrepaired fence; "

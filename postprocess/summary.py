@@ -118,6 +118,7 @@ def fence_summary(meta):
             "residual_height_ratio": meta.get("residual_height_ratio"),
             "residual_height_at": meta.get("residual_height_at", "end of impact"),
             "rest_settled": _rest_settled(meta.get("rest")),
+            "rest_skipped": bool(meta.get("rest_skipped", False)),
             "second": dict(fence_summary(second), net=fence.get("net"),
                            block_energy=(meta.get("block") or {}).get("energy"))
             if isinstance(second, dict) else None,

@@ -764,6 +764,8 @@ class Fence(CaseKind):
             residual_height=height, nominal_height=float(setup.meta["fence"]["height"]),
             residual_height_ratio=height / float(setup.meta["fence"]["height"]),
             residual_height_at="rest" if rest else "end of impact",
+            # the deck skips the rest of a block that left the fence moving on (a failed test)
+            rest_skipped=os.path.isfile(os.path.join(workdir, "rest.skipped")),
             residual_height_end_of_impact=end_of_impact,
             rest=None if rest is None else rest_facts(rest, float(t["time"][-1]), setup),
             final_block_speed=float(speed[-1]),

@@ -446,6 +446,7 @@ def test_fence_rest_settled():
 
     mark = report_module._residual_mark
     assert mark({"residual_height_at": "end of impact"}) == " (end)"
+    assert mark({"residual_height_at": "end of impact", "rest_skipped": True}) == " (end: block went on)"
     assert mark({"residual_height_at": "rest", "rest_settled": False}) == " (ropes still moving)"
     assert mark({"residual_height_at": "rest", "rest_settled": True}) == ""
 

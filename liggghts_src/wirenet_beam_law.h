@@ -1,6 +1,7 @@
 /* WireNet: parallel-bond beam law (Potyondy & Cundall 2004) for strand ropes, in a corotational
    form that is exact for rigid rotations and conservative at any bending (forces and moments are
-   the exact gradient of the strain energy, which is continuous through a half turn: fade()). No LIGGGHTS dependency. */
+   the exact gradient of the strain energy, kept smooth through a half turn: beyond()). No
+   LIGGGHTS dependency. */
 
 #ifndef WIRENET_BEAM_LAW_H
 #define WIRENET_BEAM_LAW_H
@@ -309,12 +310,12 @@ inline void fade_twist(double rho, double &psi, double &dpsi)
   dpsi = u >= 1.0 ? 0.0 : 24.0 * u * (1.0 - u);
 }
 // The twist's energy kt g(|phi|) (soften(); a pair twists little): g and the moment's factor h
-inline void soften_twist(Lanes, Lanes &g, Lanes &h, Lanes phi)
+inline void soften_twist(Lanes phi, Lanes &g, Lanes &h)
 {
   g = 0.5 * phi * phi;
   h = Lanes{ 1.0, 1.0 };
 }
-inline void soften_twist(double phi, double &g, double &h, double) { soften(std::fabs(phi), g, h); }
+inline void soften_twist(double phi, double &g, double &h) { soften(std::fabs(phi), g, h); }
 
 // The bending energy's gradient through one end (moment m = dE/dtheta of that end): adds
 // dE/de to ge and returns the torque -r x dE/dr on the end's node. With theta = f c:
@@ -377,8 +378,8 @@ inline __attribute__((always_inline)) bool BeamLaw::kernel(const BeamConst<T> &b
   T phi;
   if (!angle(ty, tx, phi)) return false;
 
-  // bending moments Kb (th_i - th_j) + Cs (th_i + th_j) at both ends, the ends' coupling km
-  // faded beyond a quarter turn (fade())
+  // bending moments Kb (th_i - th_j) + Cs (th_i + th_j) at both ends, regularised beyond a
+  // quarter turn (beyond())
   Beyond<T> far;
   beyond(bi, bj, b.kp, far);
   const T kmW = b.km * far.W;
@@ -427,16 +428,24 @@ inline __attribute__((always_inline)) bool BeamLaw::kernel(const BeamConst<T> &b
   // twist: dE = tw dphi, dphi = (tx dty - ty dtx) / (tx^2 + ty^2)
   // The twist fades where an end's reference normal turns towards the chord (rho = tx^2 + ty^2
   // = |P ni|^2 |P nj|^2 below 1/4, a bend beyond 60 degrees about an axis across the normal):
-  // at rho = 0 phi is undefined and jumped, and the twist energy with it (fade_twist()).
+  // at rho = 0 phi is undefined and jumped, and the twist energy with it (fade_twist()); beyond
+  // a quarter turn of twist its energy is softened as an end's bending (soften_twist()).
   T psi, dpsi, gt, ht;
   fade_twist(tx * tx + ty * ty, psi, dpsi);
-  soften_twist(phi, gt, ht, phi);
+  soften_twist(phi, gt, ht);
   const T tw = psi * b.kt * ht * phi;  // the twist moment: energy psi kt g(|phi|)
   {
     // dE = tw dphi + kt g psi' drho, dphi = (tx dty - ty dtx) / rho, drho = 2 (tx dtx
     // + ty dty): dE = wx dty - wy dtx (the floor keeps rho = 0 finite where psi is 0 anyway)
-    const T w = tw / larger(tx * tx + ty * ty, T{} + 1e-24), k = 2.0 * b.kt * gt * dpsi;
-    const T wx = w * tx + k * ty, wy = w * ty - k * tx;
+    const T w = tw / larger(tx * tx + ty * ty, T{} + 1e-24);
+    T wx = w * tx, wy = w * ty;
+    if constexpr (std::is_same<T, double>::value) {
+      if (dpsi != 0.0) {  // the fade's own gradient (never in a pair of bonds)
+        const double k = 2.0 * b.kt * gt * dpsi;
+        wx += k * ty;
+        wy -= k * tx;
+      }
+    }
     // dE/de, dE/dni, dE/dnj of the twist; torques -n x dE/dn
     ge = { ge.x + wx * nixnj.x + wy * (enj * ni.x + eni * nj.x), ge.y + wx * nixnj.y + wy * (enj * ni.y + eni * nj.y),
            ge.z + wx * nixnj.z + wy * (enj * ni.z + eni * nj.z) };

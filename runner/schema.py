@@ -237,8 +237,8 @@ def takers(key):
 
 # a source's first word says how far it goes (inputs/include/materials.in's header)
 UNVERIFIED, NONE, NUMERICAL = "unverified:", "none:", "numerical:"
-# numbers that act only when a switch is on (their source matters only then)
-# numbers that act only when another key is set (a key itself: only when it is not 0)
+# numbers that act only when another key is set, their source mattering only then (a key
+# itself: only when it is not 0)
 ONLY_WITH = {"materials.rope_sigma_t": "materials.rope_strength",
              "materials.rope_tau_c": "materials.rope_strength",
              "drapery.plate_radius": "drapery.plate_radius"}

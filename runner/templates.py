@@ -78,14 +78,13 @@ def _default_text(key):
     else:
         text = ", ".join(f"{k}: {_value_text(v)}" for k, v in by_kind.items())
     quick = kinds_with_quick(key)
+    parts = [f"{k.name}: {_value_text(k.quick_defaults[key.path])}" for k in quick]
     if key.quick is not None:
         own = [k.name for k in kinds_with_own(key) if k not in quick]
-        text += f" (--quick: {_value_text(key.quick)}" + (
-            f"; {', '.join(own)}: {'its' if len(own) == 1 else 'their'} own" if own else "") + (
-            "".join(f"; {k.name}: {_value_text(k.quick_defaults[key.path])}" for k in quick)) + ")"
-    elif quick:
-        text += " (--quick: " + "; ".join(f"{k.name}: {_value_text(k.quick_defaults[key.path])}"
-                                          for k in quick) + ")"
+        parts.insert(0, _value_text(key.quick) + (
+            f"; {', '.join(own)}: {'its' if len(own) == 1 else 'their'} own" if own else ""))
+    if parts:
+        text += " (--quick: " + "; ".join(parts) + ")"
     return text.replace("|", "\\|")
 
 

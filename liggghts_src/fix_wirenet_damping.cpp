@@ -226,6 +226,13 @@ void FixWirenetDamping::final_integrate()
 template <bool KICK>
 void FixWirenetDamping::damp_all()
 {
+  // ALPHA 0 without a viscous part (the physical model's impacts: the fix is their integrator)
+  // damps nothing: each component's damping is a zero, its work and impulse zero. The kick
+  // alone then, the same bits (f + 0 = f), without the damping's pass and its tally.
+  if (alpha == 0.0 && viscous == 0.0) {
+    if (KICK) kick_all();
+    return;
+  }
   if (viscous > 0.0) {
     if (tally) damp<true, KICK, true>();
     else damp<false, KICK, true>();
@@ -306,6 +313,40 @@ void FixWirenetDamping::damp()
     turning_step = update->ntimestep;
     turning_nlocal = nlocal;
   }
+}
+
+// The second half kick alone (no damping): v += dt/2m f and w += dt/2I t, the torques of the
+// atoms that have one (listed for the next step's first half kick, as damp() lists them).
+void FixWirenetDamping::kick_all()
+{
+  const int nlocal = atom->nlocal;
+  const int *mask = atom->mask;
+  renew_kicks();
+  if (igroup == 0 && nlocal > 0) {
+    double *__restrict vf = atom->v[0];
+    const double *__restrict ff = atom->f[0], *__restrict kv = kick_v.data();
+    for (int c = 0; c < 3 * nlocal; c++) vf[c] += kv[c] * ff[c];
+  } else {
+    double **f = atom->f, **v = atom->v;
+    for (int i = 0; i < nlocal; i++) {
+      if (!(mask[i] & groupbit)) continue;
+      for (int k = 0; k < 3; k++) v[i][k] += kick_v[3 * i + k] * f[i][k];
+    }
+  }
+  turning.clear();
+  turning.reserve(nlocal);
+  if (rotational) {
+    double **t = atom->torque;
+    for (int i = 0; i < nlocal; i++) {
+      if (!(mask[i] & groupbit)) continue;
+      const double *ti = t[i];
+      if (ti[0] == 0.0 && ti[1] == 0.0 && ti[2] == 0.0) continue;
+      kick_torque(i);
+      turning.push_back(i);
+    }
+  }
+  turning_step = update->ntimestep;
+  turning_nlocal = nlocal;
 }
 
 // Group all, no viscous part: each force component's damping and kick depends on that

@@ -56,6 +56,7 @@ class FixWirenetDamping : public Fix {
   bigint turning_step;        // the step whose damping listed them
   int turning_nlocal;
   template <bool KICK> void damp_all();
+  void kick_all();
   template <bool TALLY, bool KICK, bool VISC> void damp();
   template <bool TALLY, bool KICK> void damp_forces_flat();
   template <bool TALLY, bool KICK, bool VISC> void damp_torque(int i, double cm);

@@ -336,3 +336,37 @@ def test_group_all_pass_is_the_per_atom_pass_to_the_bit(tmp_path, integrate):
     assert a.shape == (11, 10) and np.array_equal(a, b)
     assert wa.shape == (3, 5) and np.array_equal(wa, wb)
     assert np.abs(a[:, 7:]).min() > 0.0 and wa[-1, 1] < 0.0   # every node turns; torques damped
+
+
+@pytest.mark.parametrize("group", ["free", "all"])
+def test_alpha_zero_is_nve_sphere_to_the_bit(tmp_path, group):
+    """ALPHA 0 without a viscous part (the physical model's impacts, where the fix is only the
+    integrator) takes the kick alone, without the damping's pass: a cantilever of beam bonds
+    swung and twisted by a tip load over two runs, positions, velocities and angular velocities
+    as nve/sphere's to the bit, and the damping's work and impulse zero."""
+    import test_beam_dynamics as beam
+    data = beam.make_beam(tmp_path)
+    lines = beam.setup_lines(data)
+    integrator = "fix integrate free nve/sphere"
+    assert integrator in lines
+    if group == "all":   # every atom integrated (the flat pass), the root held by setforce
+        lines = [line.replace("fix integrate free nve/sphere", "fix integrate all nve/sphere") for line in lines]
+        lines.append("fix hold root setforce 0 0 0")
+    lines += ["fix load tip addforce 0 0.02 -0.05", "run 1500", "run 1500",
+              "write_dump all custom final.dump id x y z vx vy vz omegax omegay omegaz modify sort id",
+              'print "W $(f_damp) $(f_damp[3]) $(f_damp[4]) $(f_damp[5])"']
+    base = "\n".join(lines) + "\n"
+    fused = base.replace(f"fix integrate {group} nve/sphere\n",
+                         f"fix damp {group} wirenet/damping 0 integrate yes\n")
+    base = base.replace('print "W $(f_damp) $(f_damp[3]) $(f_damp[4]) $(f_damp[5])"', "")
+
+    def final(deck, name):
+        (tmp_path / name).mkdir()
+        out = lmp.run_deck(deck, tmp_path / name)
+        return np.loadtxt(tmp_path / name / "final.dump", skiprows=9), out
+
+    (a, _), (b, out) = final(base, "nve"), final(fused, "fused")
+    assert np.array_equal(a, b)
+    assert np.abs(a[:, 7:]).max() > 1e-3               # the nodes turn (torques on the beam)
+    work = [line.split()[1:] for line in out.splitlines() if line.startswith("W ")]
+    assert work == [["0", "0", "0", "0"]], work

@@ -54,11 +54,14 @@ REST_KE = 1e-5           # the rest ends below this fraction of the block's ener
 # (1 J: a 5 t fence moving at 2 cm/s) and the residual height's probe still (REST_STILL over
 # REST_WINDOW), or at fence.settle_time
 SETTLE_KE = 1.0          # J
+# The settling runs in pieces of SETTLE_PIECE, each a LIGGGHTS `run` followed by the deck's
+# stillness test: about 80 ms of set-up per piece on the default fence (40 s in pieces of one
+# output row, 2 ms), 8 s in pieces of 10 ms
+SETTLE_PIECE = 0.01      # s
 # ... or once the middle module's support ropes are still: the deck's probe of the residual
 # height has stayed within REST_STILL over REST_WINDOW (the height is read to the centimetre)
 REST_STILL = 1e-3        # m
 REST_WINDOW = 0.1        # s
-DT_SAFETY = 0.5          # of the stable step of bonds and the block's contact (runner/timestep.py)
 GAP = 0.005              # block to the foremost net node at release [m]
 TABLE = "fence.csv"      # the deck's table: names in its header (include/fence_impact.in)
 IMPACT_ENDED = "impact: ended"   # the deck's line when the impact ends before fence.duration
@@ -142,8 +145,21 @@ KEYS = (
            "does not depend on the masses, and the step they set grows by its square root; a "
            "power of two (the masses come back exactly); 1: none", "doc/fence.md (\"Settling\")",
            low=1, high=1024),
-    _fence("dt", "number", 0.0, "s", "time step; 0: half the stable step of the bonds and the "
-           "block's contact on the lightest node (compute wirenet/timestep)", "doc/fence.md",
+    _fence("settle_kinetic", "bool", False, "", "while the fence settles, kinetic damping: every "
+           "velocity is set to zero at each peak of the fence's kinetic energy (fix "
+           "wirenet/kinetic; dynamic relaxation, Barnes 1999), on top of the local damping: "
+           "fewer steps for taut structures, none fewer for the default fence (its net swings "
+           "and creeps under gravity)", "doc/fix_wirenet_kinetic.md",
+           var="settle_kinetic"),
+    _fence("dt_fraction", "number", 0.5, "", "time step as a fraction of the stable step of the "
+           "bonds and the block's contact on the lightest node (compute wirenet/timestep), while "
+           "settling and during the impact. 0.8 runs 1.4x faster and is stable (the estimate is "
+           "15 % below the assembled net's highest frequency), but moves the default compound "
+           "fence's post-base peak at the support ropes' rupture by 20 % (0.7 % between two runs "
+           "at 0.5 that settled differently)",
+           "docs/PERFORMANCE.md (2026-11-28, the fence's time step)", low=0.0, low_open=True, high=1.0),
+    _fence("dt", "number", 0.0, "s", "time step; 0: fence.dt_fraction of the stable step of the "
+           "bonds and the block's contact on the lightest node (compute wirenet/timestep)", "doc/fence.md",
            low=0.0, high=1e-3),
     _fence("row_time", "number", 2e-3, "s", "time between rows of fence.csv and the CSVs made "
            "from it", "WireNet (runner/kinds/fence.py)", low=1e-6, high=1.0),
@@ -351,8 +367,9 @@ class Setup:
                            f"back exactly), got {self.settle_mass}")
         stable, settling = self._stable_step(np_)
         self.dt_bonds, self.dt_contact, self.dt_stable = stable.bonds, stable.contact, stable.loaded
-        self.dt_settle = DT_SAFETY * settling.loaded
-        self.dt = c["fence.dt"] or DT_SAFETY * self.dt_stable
+        self.dt_fraction = c["fence.dt_fraction"]
+        self.dt_settle = self.dt_fraction * settling.loaded
+        self.dt = c["fence.dt"] or self.dt_fraction * self.dt_stable
         if self.dt > self.dt_stable:
             raise RunError(f"fence.dt = {self.dt:g} s exceeds the stable step "
                            f"{self.dt_stable:g} s (bonds {self.dt_bonds:g} s, contact "
@@ -360,7 +377,7 @@ class Setup:
         self.duration, self.settle_time = c["fence.duration"], c["fence.settle_time"]
         self.steps = int(math.ceil(self.duration / self.dt))
         self.every = max(int(round(c["fence.row_time"] / self.dt)), 1)
-        self.settle_every = max(int(round(c["fence.row_time"] / self.dt_settle)), 1)
+        self.settle_every = max(int(round(SETTLE_PIECE / self.dt_settle)), 1)
         self.relax_steps = int(math.ceil(self.settle_time / self.dt_settle / self.settle_every)) \
             * self.settle_every
         self.rest_time = c["fence.rest_time"]
@@ -663,7 +680,7 @@ class Fence(CaseKind):
                                 point=list(c["fence.impact_point"]), aim=list(setup.aim)),
                      gravity=setup.g, damping=c["damping.local"], bond_damping=c["damping.bond"],
                      dissipation=dissipation.model(c),
-                     dt=setup.dt, dt_stable_bonds=setup.dt_bonds,
+                     dt=setup.dt, dt_fraction=setup.dt_fraction, dt_stable_bonds=setup.dt_bonds,
                      dt_stable_contact=setup.dt_contact, steps=setup.steps,
                      duration=setup.duration, settle_time=setup.settle_time,
                      rest_time=setup.rest_time, impacts=setup.impacts,

@@ -45,11 +45,12 @@ def test_budget_and_momentum_close(study, name):
     assert m["energy"]["closure_error"] < 1e-3
     assert m["momentum"]["error"] < 1e-3
     assert m["energy"]["initial_energy"] == pytest.approx(m["block"]["energy"], rel=0.05)
-    assert m["dt"] <= 0.5 * min(m["dt_stable_bonds"], m["dt_stable_contact"]) * (1 + 1e-12)
-    # half the stable step of bonds and contact together: omega^2 = omega_b^2 + omega_c^2
-    # (doc/compute_wirenet_timestep.md), dt_b = 2 / omega_b, dt_c = 2 / omega_c
+    assert m["dt_fraction"] == 0.5                         # fence.dt_fraction's default
+    assert m["dt"] <= m["dt_fraction"] * min(m["dt_stable_bonds"], m["dt_stable_contact"]) * (1 + 1e-12)
+    # the fraction of the stable step of bonds and contact together: omega^2 = omega_b^2 +
+    # omega_c^2 (doc/compute_wirenet_timestep.md), dt_b = 2 / omega_b, dt_c = 2 / omega_c
     together = 1.0 / np.sqrt(m["dt_stable_bonds"] ** -2 + m["dt_stable_contact"] ** -2)
-    assert m["dt"] == pytest.approx(0.5 * together, rel=1e-9)
+    assert m["dt"] == pytest.approx(m["dt_fraction"] * together, rel=1e-9)
 
 
 @pytest.mark.parametrize("name", ["fence_compound", "fence_square"])

@@ -259,6 +259,13 @@ def test_integrate_and_viscous_need_spheres(tmp_path, keywords, message):
     assert rc != 0 and len(errors) == 1 and message in errors[0], out[-1500:]
 
 
+def final_dump(tmp_path, deck, name):
+    """Run a deck in tmp_path/name; its final.dump (rows sorted by id) and its output."""
+    (tmp_path / name).mkdir()
+    out = lmp.run_deck(deck, tmp_path / name)
+    return np.loadtxt(tmp_path / name / "final.dump", skiprows=9), out
+
+
 # The fused pass keeps each atom's dt/2m and dt/2I from one neighbour-list build to the next:
 # atoms re-sorted every 50 steps (a build every step) and a tip mass changed between runs; the
 # mass changed between two runs without a build in either (LIGGGHTS counts the builds from 0
@@ -290,19 +297,14 @@ def test_integrate_yes_is_nve_sphere_with_the_damping_on_turning_beams(tmp_path,
                 .replace("wirenet/damping 0.3", "wirenet/damping 0.3 integrate yes")
     assert "nve/sphere" not in fused
 
-    def final(deck, name):
-        (tmp_path / name).mkdir()
-        out = lmp.run_deck(deck, tmp_path / name)
-        return np.loadtxt(tmp_path / name / "final.dump", skiprows=9), out
-
-    (a, out), (b, _) = final(base, "two"), final(fused, "one")
+    (a, out), (b, _) = final_dump(tmp_path, base, "two"), final_dump(tmp_path, fused, "one")
     assert np.array_equal(a, b)
     assert np.abs(a[:, 4:]).max() > 1e-3               # the nodes turn (torques on the beam)
     if change == "dt_reset":                           # the time step did change
         dt = [float(line.split()[1]) for line in out.splitlines() if line.startswith("DT ")]
         assert len(dt) == 1 and abs(dt[0] / beam.DT - 1.0) > 0.01, dt
     else:                                              # the mass change reaches the motion
-        light = final(base.replace("mass 0.05", "mass 0.5"), "light")[0]
+        light = final_dump(tmp_path, base.replace("mass 0.05", "mass 0.5"), "light")[0]
         assert np.abs(light[:, 1:4] - a[:, 1:4]).max() > 1e-6
 
 
@@ -360,12 +362,7 @@ def test_alpha_zero_is_nve_sphere_to_the_bit(tmp_path, group):
                          f"fix damp {group} wirenet/damping 0 integrate yes\n")
     base = base.replace('print "W $(f_damp) $(f_damp[3]) $(f_damp[4]) $(f_damp[5])"', "")
 
-    def final(deck, name):
-        (tmp_path / name).mkdir()
-        out = lmp.run_deck(deck, tmp_path / name)
-        return np.loadtxt(tmp_path / name / "final.dump", skiprows=9), out
-
-    (a, _), (b, out) = final(base, "nve"), final(fused, "fused")
+    (a, _), (b, out) = final_dump(tmp_path, base, "nve"), final_dump(tmp_path, fused, "fused")
     assert np.array_equal(a, b)
     assert np.abs(a[:, 7:]).max() > 1e-3               # the nodes turn (torques on the beam)
     work = [line.split()[1:] for line in out.splitlines() if line.startswith("W ")]

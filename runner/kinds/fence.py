@@ -156,7 +156,7 @@ KEYS = (
            "settling and during the impact. 0.8 runs 1.4x faster and is stable (the estimate is "
            "15 % below the assembled net's highest frequency), but moves the default compound "
            "fence's post-base peak at the support ropes' rupture by 20 % (0.7 % between two runs "
-           "at 0.5 that settled differently)",
+           "at 0.5 that settled differently; 0.3 gives -6 %: that peak is not converged)",
            "docs/PERFORMANCE.md (2026-11-28, the fence's time step)", low=0.0, low_open=True, high=1.0),
     _fence("dt", "number", 0.0, "s", "time step; 0: fence.dt_fraction of the stable step of the "
            "bonds and the block's contact on the lightest node (compute wirenet/timestep)", "doc/fence.md",

@@ -317,6 +317,18 @@ def yade_tensile_table(t):
                       f"{t['reference']}; WireNet on one core.", "", t["table"]])
 
 
+def keep_best(res, np_, n, seconds):
+    """res[np_] = the run of n steps in `seconds` if it is the fastest per step so far."""
+    best = res.get(np_)
+    if best is None or seconds / n < best["seconds"] / best["steps"]:
+        res[np_] = {"steps": n, "seconds": seconds}
+
+
+def speedup(one, two):
+    """Time per step of run `one` over that of run `two` ({"steps", "seconds"} each)."""
+    return (one["seconds"] / one["steps"]) / (two["seconds"] / two["steps"])
+
+
 def bench_ranks(out, steps, repeats=3, ranks=(1, 2)):
     """The 3 m compound panel's punch and impact on 1 and 2 MPI ranks: LIGGGHTS' loop time of
     `steps` steps of the load phase (after a short pre-load or settling, which is not timed).
@@ -328,16 +340,11 @@ def bench_ranks(out, steps, repeats=3, ranks=(1, 2)):
     from runner.kinds import impact
     res = {"punch": {}, "impact": {}}
 
-    def keep(case, np_, n, seconds):
-        best = res[case].get(np_)
-        if best is None or seconds / n < best["seconds"] / best["steps"]:
-            res[case][np_] = {"steps": n, "seconds": seconds}
-
     for _ in range(repeats):
         for np_ in ranks:
             n, seconds = bench_body.run("compound", True, steps, "analytic",
                                         str(out / f"ranks_punch_np{np_}"), np_=np_)
-            keep("punch", np_, n, seconds)
+            keep_best(res["punch"], np_, n, seconds)
             folder = out / f"ranks_impact_np{np_}"
             case = api.load('kind = "impact"\n[panel]\nnet = "compound"\n',
                             set=["preload.settle_time=0.002"])
@@ -348,10 +355,9 @@ def bench_ranks(out, steps, repeats=3, ranks=(1, 2)):
             variables.update(dump_every=10 ** 9, frame_every=10 ** 9)
             engine.run(INPUTS / "impact.in", str(folder / "run"), variables, np=np_,
                        total_steps=steps, dt=setup.dt, phase_marker=RELEASED)
-            keep("impact", np_, *loop_times((folder / "run" / "log.lammps").read_text(), RELEASED))
+            keep_best(res["impact"], np_, *loop_times((folder / "run" / "log.lammps").read_text(), RELEASED))
     for case in res.values():
-        one, two = case[ranks[0]], case[ranks[-1]]
-        case["speedup"] = (one["seconds"] / one["steps"]) / (two["seconds"] / two["steps"])
+        case["speedup"] = speedup(case[ranks[0]], case[ranks[-1]])
     res["repeats"] = repeats
     return res
 
@@ -365,23 +371,19 @@ def bench_fence_ranks(out, steps, repeats=2, ranks=(1, 2)):
     the best of each kept."""
     from runner import api
     study = out / "fence_ranks"
+    dt_guess = 5.2e-6     # the default fence's step (doc/fence.md): about `steps` steps
+    case = api.load(str(ROOT / "inputs" / "cases" / "fence_compound.toml"),
+                    set=["fence.rest_time=0", "fence.impact_end=0", "output.frames=2",
+                         "fence.settle_time=0.2", f"fence.duration={steps * dt_guess!r}"])
     res = {}
     for _ in range(repeats):
         for np_ in sorted(ranks, reverse=True):
-            dt_guess = 5.2e-6     # the default fence's step (doc/fence.md): about `steps` steps
-            case = api.load(str(ROOT / "inputs" / "cases" / "fence_compound.toml"),
-                            set=["fence.rest_time=0", "fence.impact_end=0", "output.frames=2",
-                                 "fence.settle_time=0.2", f"fence.duration={steps * dt_guess!r}"])
             folder = study / f"np{np_}"
             if folder.exists():
                 shutil.rmtree(folder)
             api.run(case, str(folder), ranks=np_, study_dir=str(study))
-            n, seconds = loop_times((folder / "run" / "log.lammps").read_text(), RELEASED)
-            best = res.get(np_)
-            if best is None or seconds / n < best["seconds"] / best["steps"]:
-                res[np_] = {"steps": n, "seconds": seconds}
-    res["speedup"] = (res[ranks[0]]["seconds"] / res[ranks[0]]["steps"]) / \
-        (res[ranks[-1]]["seconds"] / res[ranks[-1]]["steps"])
+            keep_best(res, np_, *loop_times((folder / "run" / "log.lammps").read_text(), RELEASED))
+    res["speedup"] = speedup(res[ranks[0]], res[ranks[-1]])
     res["repeats"] = repeats
     return res
 

@@ -83,10 +83,11 @@ def _component_row(name, f):
 
 
 DRAPERY_NOTE = (
-    "A mesh hung on a slope from its top anchors and bolted on a grid, hit by a block from "
-    "upslope (runner/kinds/drapery.py, doc/drapery.md). Block energy: the block's kinetic and "
-    "potential energy the budget starts from (at the release); travel: down the slope from the "
-    "release; bulge: the largest rise of the mesh off the slope, normal to it, since it "
+    "A mesh hung on a slope from its top anchors and bolted on a grid, hit by a block or a "
+    "debris heap from upslope (runner/kinds/drapery.py, doc/drapery.md). Load energy: the "
+    "energy the budget starts from (at the release); load: where the block ended, or the "
+    "shares of the debris' spheres; travel: of the block or the heap's centre of mass, down "
+    "the slope from the release; bulge: the largest rise of the mesh off the slope, normal to it, since it "
     "settled; anchors: the largest window-mean force of one anchor of the top row and of the "
     "grid, and of the top row together (fix wirenet/hold ... each).")
 
@@ -638,7 +639,7 @@ def markdown(directory, summaries, verdicts, missing, figures, dissipation=(), e
     draperies = {n: s["drapery"] for n, s in summaries.items() if s.get("drapery")}
     if draperies:
         lines += _section("Drapery cases", DRAPERY_NOTE)
-        lines += _table(["case", "net", "slope [deg]", "block energy [kJ]", "block",
+        lines += _table(["case", "net", "slope [deg]", "load energy [kJ]", "load",
                          "travel [m]", "final speed [m/s]", "bulge [m]", "peak top anchor [kN]",
                          "peak grid anchor [kN]", "top row [kN]", "energy closure [-]",
                          "broken bonds"],

@@ -16,13 +16,14 @@ the bulge (how far the mesh rose off the slope since it settled), the energy bud
 by its own mechanism: BUDGET), ruptures and the ParaView series.
 """
 
+import dataclasses
 import math
 import os
 import time
 
 import numpy as np
 
-from postprocess import record
+from postprocess import dumps, record
 from postprocess.csvio import read_deck_table, write_csv
 from postprocess.meta import PanelInfo
 
@@ -42,6 +43,12 @@ MARGIN = 4.0             # m: the box beyond the laid mesh (the block lifts it, 
 GAP = 0.005              # m: the block's clearance above the slope at release
 ROCK_DENSITY = 2700.0    # kg/m3: granite and limestone 2600-2750 (rockfall practice; the
                          # density gives the block's size only)
+DEBRIS_TYPE = 9          # the debris spheres' atom type, with the 14-type contact tables
+DEBRIS_TYPES = 14        # (include/contacts.in: the same contact values for every type pair)
+DEBRIS_MOLECULE = 3      # the first sphere's molecule ID, one each: the deck excludes contacts
+                         # within a molecule (the nets' are 1 and 2)
+CONTACT_FRACTION = 1e-6  # the load touched the mesh: a peak force above this times its weight
+DEBRIS_GAP = 0.01        # the heap's spheres a hundredth of a diameter apart at release
 EXAMPLE = "WireNet's drapery example (issue #42: a 10 m x 10 m mesh on a 60 degree slope)"
 
 
@@ -84,6 +91,20 @@ KEYS = (
              low=0.0, high=1000.0, quick=0.5),
     _drapery("release_speed", "number", 0.0, "m/s", "the block's speed down the slope at "
              "release", EXAMPLE + " (released at rest)", low=0.0, high=100.0, quick=6.0),
+    _drapery("load", "choice", "block", "", "what comes down the slope: block (one rigid "
+             "block, drapery.block_*) or debris (a heap of rock spheres, drapery.debris_*); "
+             "either released drapery.release_distance upslope at drapery.release_speed",
+             EXAMPLE + " (a block)", choices=("block", "debris")),
+    _drapery("debris_mass", "number", 500.0, "kg", "debris: the heap's mass (spheres of "
+             f"drapery.debris_diameter at {ROCK_DENSITY:g} kg/m3, as many as it takes)",
+             "the example's block mass, as debris", low=1.0, high=1e6, quick=60.0),
+    _drapery("debris_diameter", "number", 0.2, "m", "debris: the spheres' diameter (larger "
+             "than the mesh's longest node spacing: the wires between nodes are not contact "
+             "surfaces, only the node spheres are)", "a design choice: cobbles (ISO 14688-1: "
+             "cobbles 63-200 mm, boulders above)", low=0.01, high=5.0, quick=0.15),
+    _drapery("debris_width", "number", 2.0, "m", "debris: the heap's width across the slope, "
+             "centred on drapery.point_x (the heap is as many rows up the slope as layers "
+             "deep)", "a design choice", low=0.01, high=100.0, quick=0.6),
     _drapery("point_x", "number", 0.0, "m", "the block's path across the slope: offset from "
              "the panel's centre line", EXAMPLE),
     _drapery("settle_time", "number", 0.5, "s", "settling of the laid mesh under its weight "
@@ -115,6 +136,28 @@ BUDGET = (
     Term("contact_layers", ("w_contact_pair",), "work of the node-node contacts of a compound "
          "mesh's layers", sign=-1, mechanism="friction: between the net's layers"),
 ) + budget.GROUND_TERMS
+
+
+# drapery.load debris: the same columns, the load's terms are the heap's, its contacts with the
+# mesh and with itself pair contacts (include/debris.in)
+DEBRIS_MEANINGS = {
+    "ke_block": dict(meaning="kinetic energy of the debris"),
+    "pe_block": dict(meaning="gravity potential energy of the debris"),
+    "contact_layers": dict(meaning="work of the pair contacts: the debris on the mesh and on "
+                           "itself (and a compound mesh's layers)",
+                           mechanism="friction: debris on mesh and on itself"),
+    "friction_ground": dict(meaning="dissipated by the slope's contacts with the nodes and the "
+                            "debris: friction and normal damping",
+                            mechanism="friction: net and debris on the slope"),
+}
+
+
+def budget_of(case):
+    """The case's budget: BUDGET, its load's terms named for the debris with drapery.load
+    debris."""
+    if case["drapery.load"] != "debris":
+        return BUDGET
+    return tuple(dataclasses.replace(t, **DEBRIS_MEANINGS.get(t.name, {})) for t in BUDGET)
 
 
 class Slope:
@@ -161,27 +204,57 @@ def plates(ids, laid, free, bolts, radius):
     return out
 
 
-def tilt_data(src, dst, positions, box):
+def debris_heap(case, slope, lift):
+    """(centres of the debris spheres (world), the mass of one): drapery.debris_mass in spheres
+    of drapery.debris_diameter packed cubically on the slope (DEBRIS_GAP apart), a heap
+    drapery.debris_width across centred on drapery.point_x, its lowest row's spheres touching
+    the line drapery.release_distance upslope, its first layer ``lift`` off the slope; as many
+    rows up the slope as layers deep (the last layer partly filled)."""
+    d = case["drapery.debris_diameter"]
+    one = ROCK_DENSITY * math.pi / 6.0 * d ** 3
+    n = max(int(math.ceil(case["drapery.debris_mass"] / one - 1e-9)), 1)
+    pitch = d * (1.0 + DEBRIS_GAP)
+    n_across = max(int(case["drapery.debris_width"] / pitch), 1)
+    n_rows = max(int(math.ceil(math.sqrt(n / n_across))), 1)
+    k = np.arange(n)
+    across = case["drapery.point_x"] + (k % n_across - (n_across - 1) / 2.0) * pitch
+    up = case["drapery.release_distance"] + 0.5 * d + (k // n_across % n_rows) * pitch
+    off = lift + 0.5 * d + (k // (n_across * n_rows)) * pitch
+    return slope.point(across, up, off), one
+
+
+def tilt_data(src, dst, positions, box, extra=(), types=None):
     """A copy of data file src with the atoms at ``positions`` (rows in the Atoms section's
-    order) and the box ((xlo, xhi), (ylo, yhi), (zlo, zhi))."""
+    order), the box ((xlo, xhi), (ylo, yhi), (zlo, zhi)), the Atoms lines ``extra`` (type x y z
+    diameter density molecule, without the ID) added after them with the next IDs, and
+    ``types`` atom types (None: as src)."""
     with open(src, encoding="utf-8") as handle:
         lines = handle.read().split("\n")
     labels = ("xlo xhi", "ylo yhi", "zlo zhi")
-    out, atom = [], 0
+    out, atom, last_id = [], 0, 0
     section = None
     for line in lines:
         words = line.split()
         for axis, label in enumerate(labels):
             if line.rstrip().endswith(label):
                 line = f"{box[axis][0]!r} {box[axis][1]!r} {label}"
-        if words and words[0].isalpha() and len(words) <= 2 and not line.endswith(labels):
+        if words[1:] == ["atoms"]:
+            line = f"{int(words[0]) + len(extra)} atoms"
+        elif words[1:] == ["atom", "types"] and types is not None:
+            line = f"{types} atom types"
+        elif words and words[0].isalpha() and len(words) <= 2 and not line.endswith(labels):
             section = words[0]
         elif section == "Atoms" and len(words) >= 5:
             if atom < len(positions):
                 p = positions[atom]
                 words[2:5] = (repr(float(p[0])), repr(float(p[1])), repr(float(p[2])))
                 line = " ".join(words)
+            last_id = max(last_id, int(words[0]))
             atom += 1
+            out.append(line)
+            if atom == len(positions):
+                out.extend(f"{last_id + k + 1} {row}" for k, row in enumerate(extra))
+            continue
         out.append(line)
     if atom != len(positions):
         raise RunError(f"drapery: {src}: {atom} atoms in its Atoms section, {len(positions)} "
@@ -261,10 +334,21 @@ class Setup:
                                         [c["drapery.release_distance"]], [lift])[0]
         self.velocity = -c["drapery.release_speed"] * self.slope.u
         # the box: the laid mesh and the block's start, MARGIN beyond
-        pts = np.vstack([laid, self.release])
+        self.debris, self.debris_one, extra = self.heap(data, x, y)
+        # the box: the laid mesh and the load's start, MARGIN beyond; with debris, also as far
+        # down the slope as a sphere sliding without friction gets in drapery.duration (atoms
+        # must stay in the box; the block is no atom)
+        pts = np.vstack([laid, self.release, self.debris.reshape(-1, 3)])
+        if len(self.debris):
+            t = c["drapery.duration"]
+            run_out = c["drapery.release_speed"] * t + 0.5 * self.g * math.sin(b) * t * t
+            pts = np.vstack([pts, self.slope.point([c["drapery.point_x"]] * 2,
+                                                   [c["drapery.release_distance"] - run_out] * 2,
+                                                   [0.0, self.debris_top])])
         box = [(float(pts[:, a].min() - MARGIN), float(pts[:, a].max() + MARGIN)) for a in range(3)]
         self.data_path = os.path.join(workdir, "drapery.data")
-        tilt_data(self.panel.data_path, self.data_path, laid, box)
+        tilt_data(self.panel.data_path, self.data_path, laid, box, extra,
+                  DEBRIS_TYPES if len(self.debris) else None)
         self.anchors_path = os.path.join(workdir, "anchors.in")
         write_group(self.anchors_path, {"top_anchors": self.top_ids, "grid_anchors": sorted(
             m for members in self.plates.values() for m in members)})
@@ -276,6 +360,28 @@ class Setup:
         self.relax_steps = int(math.ceil(c["drapery.settle_time"] / self.dt))
         self.every = max(int(round(c["output.row_time"] / self.dt)), 1)
         self.dump_every = self.every * int(c["output.dump_rows"])
+
+    def heap(self, data, x, y):
+        """drapery.load debris: (the spheres' centres, the mass of one, their Atoms lines);
+        no spheres for a block. Refuses spheres that pass between the mesh's nodes."""
+        c = self.case
+        self.debris_top = 0.0
+        if c["drapery.load"] != "debris":
+            return np.zeros((0, 3)), 0.0, []
+        d = c["drapery.debris_diameter"]
+        row = {int(atom): k for k, atom in enumerate(data.atom_ids)}
+        a = [row[int(i)] for i in data.bond("atom1")]
+        b = [row[int(i)] for i in data.bond("atom2")]
+        spacing = float(np.max(np.hypot(x[a] - x[b], y[a] - y[b])))
+        if not d > spacing:
+            raise RunError(f"drapery.debris_diameter: {d:g} m is not larger than the mesh's "
+                           f"longest node spacing ({spacing:g} m): the spheres would pass "
+                           "between the nodes (the wires are not contact surfaces)")
+        centres, one = debris_heap(c, self.slope, GAP)
+        self.debris_top = float(self.slope.coordinates(centres)[2].max() + d)
+        lines = [f"{DEBRIS_TYPE} {p[0]!r} {p[1]!r} {p[2]!r} {d!r} {ROCK_DENSITY!r} "
+                 f"{DEBRIS_MOLECULE + k}" for k, p in enumerate(centres.tolist())]
+        return centres, one, lines
 
     def variables(self):
         c = self.case
@@ -300,6 +406,9 @@ class Setup:
                  relax_steps=self.relax_steps, steps=self.steps, every=self.every,
                  dump_every=self.dump_every, out=".",
                  frame_every=max(int(math.ceil(self.steps / c["output.frames"])), 1))
+        if len(self.debris):
+            v.update(debris=1, debris_type=DEBRIS_TYPE, atom_types=DEBRIS_TYPES,
+                     pair_contacts=1, load="debris", frames_body="none")
         return v
 
 
@@ -308,7 +417,43 @@ def read_table(workdir):
     return read_deck_table(os.path.join(workdir, TABLE), sorted(
         {col for t in BUDGET for col in t.columns} | {
             "step", "time", "x", "y", "z", "vx", "vy", "vz", "force", "force_mean", "contacts",
-            "top_x", "top_y", "top_z", "grid_x", "grid_y", "grid_z", "lift", "gap"}))
+            "top_x", "top_y", "top_z", "grid_x", "grid_y", "grid_z", "lift", "gap",
+            "j_load_x", "j_load_y", "j_load_z"}))
+
+
+def load_force(time_, table):
+    """The mean force of the net on the load over each row's window (N): the change of the
+    contacts' impulse on it (j_load_*) over the row's time; 0 on the first row."""
+    j = np.column_stack([table["j_load_x"], table["j_load_y"], table["j_load_z"]])
+    force = np.zeros(len(time_))
+    force[1:] = np.linalg.norm(np.diff(j, axis=0), axis=1) / np.maximum(np.diff(time_), 1e-300)
+    return force
+
+
+def debris_end(path, slope, foot):
+    """Where the debris ended: (facts, verdict) from the last frame of its dump (id x y z vx vy
+    vz): the fractions of the spheres below the mesh's foot, more than 2 m off the slope,
+    still faster than 0.1 m/s, and the rest (held under or on the mesh)."""
+    frame = None
+    for frame in dumps.iter_frames(path):
+        pass
+    if frame is None:
+        raise RunError(f"{path}: no frame")
+    p = np.column_stack([frame.column(c) for c in ("x", "y", "z")])
+    speed = np.linalg.norm(np.column_stack([frame.column(c) for c in ("vx", "vy", "vz")]),
+                           axis=1)
+    across, up, off = slope.coordinates(p)
+    past = up < foot
+    left = ~past & (off > 2.0)
+    moving = ~past & ~left & (speed > 0.1)
+    held = ~past & ~left & ~moving
+    share = {name: float(np.mean(mask)) for name, mask in (
+        ("past_foot", past), ("left_slope", left), ("moving", moving), ("held", held))}
+    verdict = "debris: " + ", ".join(f"{100 * share[k]:.0f} % {text}" for k, text in (
+        ("past_foot", "reached the foot"), ("held", "stopped under the mesh"),
+        ("moving", "moving"), ("left_slope", "left the slope")) if share[k] > 0)
+    return dict(spheres=int(len(p)), fractions=share, largest_off=float(off.max()),
+                lowest_up=float(up.min()), mesh_foot=foot), verdict
 
 
 def anchor_peaks(path, positions, slope, plates=None):
@@ -375,7 +520,8 @@ class Drapery(CaseKind):
             fail("drapery.point_x", f"{case['drapery.point_x']:g} m is beyond the mesh's side "
                                     f"edges (panel.width {case['panel.width']:g} m)")
         side = case["drapery.block_side"]
-        if side * math.sqrt(3) >= case["drapery.top_height"] + case["panel.height"]:
+        if case["drapery.load"] == "block" and \
+                side * math.sqrt(3) >= case["drapery.top_height"] + case["panel.height"]:
             fail("drapery.block_side", f"{side:g} m: the block is larger than the mesh and its "
                                        "gap")
         if not case["gravity"] > 0:
@@ -390,8 +536,13 @@ class Drapery(CaseKind):
         return 20
 
     def verdict(self, facts):
-        if not facts["peak_block_force"] > 0:
-            return (record.NO_CONTACT, "the block never touched the mesh: check "
+        load = facts.get("debris") or facts.get("block") or {}
+        # round-off of the contacts' impulse on a load that never touched is far below this
+        touched = facts["peak_block_force"] > CONTACT_FRACTION * load.get("mass", 0.0) * \
+            facts.get("gravity", 0.0)
+        if not touched:
+            what = "debris" if facts.get("debris") else "block"
+            return (record.NO_CONTACT, f"the {what} never touched the mesh: check "
                                        "drapery.release_distance, drapery.point_x and "
                                        "drapery.duration")
         return self.budget_verdict(facts)
@@ -404,15 +555,16 @@ class Drapery(CaseKind):
         start = time.time()
         wall = engine.run(INPUTS / "drapery.in", workdir, setup.variables(), np=ctx.ranks,
                           total_steps=setup.steps, label=f"drapery {c['panel.net']}",
-                          dt=setup.dt, phase_marker="drapery: block released")
+                          dt=setup.dt, phase_marker="drapery: block released",
+                          before=("settling", setup.relax_steps))
         table = read_table(workdir)
         facts = self.write_outputs(setup, ctx.case_dir, workdir, table)
         facts.update(panel=c["panel.net"], bending=bending, bending_source=source,
                      slope=c["drapery.slope"], top_height=setup.top_height,
-                     block=dict(mass=setup.block.mass, side=setup.block.side,
-                                release=setup.release.tolist(),
-                                velocity=setup.velocity.tolist(),
-                                quat=list(setup.block.quat)),
+                     block=None if len(setup.debris) else dict(
+                         mass=setup.block.mass, side=setup.block.side,
+                         release=setup.release.tolist(), velocity=setup.velocity.tolist(),
+                         quat=list(setup.block.quat)),
                      gravity=setup.g, damping=c["damping.local"],
                      bond_damping=c["damping.bond"], dissipation=dissipation.model(c),
                      dt=setup.dt, steps=setup.steps, duration=setup.duration,
@@ -420,6 +572,11 @@ class Drapery(CaseKind):
                      grid_anchors=len(setup.grid), grid_points_hanging=setup.grid_skipped,
                      plate_radius=c["drapery.plate_radius"],
                      plate_nodes=[len(m) for m in setup.plates.values()],
+                     load=c["drapery.load"], debris=dict(
+                         spheres=int(len(setup.debris)), diameter=c["drapery.debris_diameter"],
+                         mass=float(len(setup.debris) * setup.debris_one),
+                         width=c["drapery.debris_width"],
+                         velocity=setup.velocity.tolist()) if len(setup.debris) else None,
                      net_mass=float(np.sum(setup.node_masses)), run_wall_time=wall,
                      post_wall_time=time.time() - start - wall)
         return facts
@@ -428,6 +585,9 @@ class Drapery(CaseKind):
         """block.csv, anchors.csv, energy.csv, ruptures.csv and the ParaView series; returns
         the facts for case.json."""
         time_ = t["time"] - t["time"][0]
+        debris = len(setup.debris) > 0
+        if debris:      # the deck's force columns are the block's: the heap's from its impulse
+            t["force_mean"] = t["force"] = load_force(time_, t)
         write_csv(os.path.join(case_dir, "block.csv"), ("time", "x", "y", "z", "vx", "vy", "vz",
                                                         "force"),
                   zip(time_, t["x"], t["y"], t["z"], t["vx"], t["vy"], t["vz"], t["force_mean"]))
@@ -438,8 +598,9 @@ class Drapery(CaseKind):
                    "grid_force", "bulge", "gap"),
                   zip(time_, t["top_x"], t["top_y"], t["top_z"], top, t["grid_x"], t["grid_y"],
                       t["grid_z"], grid, t["lift"], t["gap"]))
-        terms, total, e0, error = budget.energy_budget(t, BUDGET)
-        names = tuple(term.name for term in BUDGET)
+        terms_of = budget_of(self.case)
+        terms, total, e0, error = budget.energy_budget(t, terms_of)
+        names = tuple(term.name for term in terms_of)
         write_csv(os.path.join(case_dir, "energy.csv"), ("time",) + names +
                   ("total", "closure_error"), zip(time_, *(terms[k] for k in names), total, error))
         panel = PanelInfo(setup.panel.json_path)
@@ -456,12 +617,16 @@ class Drapery(CaseKind):
             anchors["grid"] = anchor_peaks(os.path.join(workdir, "grid_anchors.txt"), positions,
                                            setup.slope, setup.plates)
         end, verdict = block_end(setup.slope, t, setup.foot)
+        if debris:      # the heap's centroid travelled (block_end); where its spheres ended
+            heap, verdict = debris_end(os.path.join(workdir, "debris_end.dump"), setup.slope,
+                                       setup.foot)
+            end = dict(end, **heap)
         k_lift = int(np.argmax(t["lift"]))
         k_force = int(np.argmax(t["force_mean"]))
         closure = dict(closure_error=float(np.max(np.abs(error))), initial_energy=e0,
                        final={k: float(terms[k][-1]) for k in names},
                        final_error=float(error[-1]),
-                       mechanisms=budget.mechanisms(terms, BUDGET),
+                       mechanisms=budget.mechanisms(terms, terms_of),
                        local_damping_fraction=float(terms["damping"][-1]) / e0)
 
         def peak(group):

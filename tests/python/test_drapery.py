@@ -20,6 +20,7 @@ from runner.kinds import drapery
 
 DRIVER = lmp.ROOT / "wirenet"
 EXAMPLE = lmp.ROOT / "docs" / "examples" / "drapery.toml"
+DEBRIS = lmp.ROOT / "docs" / "examples" / "drapery_debris.toml"
 
 
 def driver(*args, out=None):
@@ -89,6 +90,9 @@ def test_tilt_data_rewrites_positions_and_box_only(tmp_path):
     ("[drapery]\nblock_side = 15.0\n", "drapery.block_side"),
     ("[drapery]\nplate_radius = 1.6\n", "drapery.plate_radius"),      # plates overlap (3 m grid)
     ("[drapery]\nplate_radius = -0.1\n", "drapery.plate_radius"),
+    ("[drapery]\nload = \"mud\"\n", "drapery.load"),
+    ("[drapery]\ndebris_diameter = 0.0\n", "drapery.debris_diameter"),
+    ("[drapery]\ndebris_mass = inf\n", "drapery.debris_mass"),
 ])
 def test_bad_drapery_keys_get_one_line(tmp_path, text, key):
     bad = tmp_path / "bad.toml"
@@ -187,3 +191,76 @@ def test_secured_quick_example_spreads_each_bolt_over_its_plate(tmp_path):
     assert sorted(v["nodes"] for v in grid.values()) == sorted(m["plate_nodes"])
     left, right = sorted(grid.values(), key=lambda v: v["across"])
     assert left["force"] == pytest.approx(right["force"], rel=0.05) and left["force"] > 10.0
+
+
+# ---- debris ---------------------------------------------------------------------------------
+
+def test_debris_heap_packs_the_mass_on_the_slope_without_overlap():
+    case = {"drapery.debris_mass": 500.0, "drapery.debris_diameter": 0.2,
+            "drapery.debris_width": 2.0, "drapery.point_x": 0.3, "drapery.release_distance": 5.0}
+    slope = drapery.Slope(60.0)
+    centres, one = drapery.debris_heap(case, slope, 0.005)
+    assert one == pytest.approx(drapery.ROCK_DENSITY * math.pi / 6 * 0.2 ** 3)
+    n = len(centres)
+    assert n == math.ceil(500.0 / one) and (n - 1) * one < 500.0 <= n * one
+    across, up, off = slope.coordinates(centres)
+    assert off.min() == pytest.approx(0.105) and up.min() == pytest.approx(5.1)
+    assert across.mean() == pytest.approx(0.3, abs=0.11) and np.ptp(across) <= 2.0
+    gaps = np.linalg.norm(centres[:, None] - centres[None], axis=2) + np.eye(n)
+    assert gaps.min() == pytest.approx(0.2 * (1 + drapery.DEBRIS_GAP))
+
+
+def test_tilt_data_appends_the_debris_with_the_next_ids_and_types(tmp_path):
+    atoms = [(1, 1, 0.0, 0.0, 0.0, 0.01, 7850.0, 1), (2, 1, 0.1, 0.0, 0.0, 0.01, 7850.0, 1)]
+    src = tmp_path / "flat.data"
+    lmp.write_data(src, atoms, [(1, 1, 1, 2)], box=((-1, 1), (-1, 1), (-1, 1)))
+    dst = tmp_path / "laid.data"
+    drapery.tilt_data(src, dst, np.zeros((2, 3)), ((-1, 1), (-1, 1), (-1, 1)),
+                      ["9 0.5 0.5 0.5 0.2 2700.0 3", "9 0.7 0.5 0.5 0.2 2700.0 4"], 14)
+    text = dst.read_text()
+    assert "4 atoms" in text and "14 atom types" in text
+    assert "3 9 0.5 0.5 0.5 0.2 2700.0 3" in text and "4 9 0.7 0.5 0.5 0.2 2700.0 4" in text
+    assert text.index("4 9 0.7") < text.index("Bonds")
+
+
+def test_debris_smaller_than_the_mesh_is_refused(tmp_path):
+    p = driver(DEBRIS, "--quick", "--set", "drapery.debris_diameter=0.03", out=tmp_path)
+    assert p.returncode == 2 and p.stderr.strip().count("\n") == 0, p.stderr
+    assert "drapery.debris_diameter" in p.stderr and "node spacing" in p.stderr
+
+
+def test_debris_falls_freely_then_loads_the_mesh_and_closes_its_budget(tmp_path):
+    """The quick debris example run for 0.3 s: the heap flies freely until its lowest spheres
+    land on the slope (the exact kinematics of a body under gravity alone), then slides into
+    the gap and lifts the mesh; the budget closes with the debris' pair contacts (with the mesh
+    and each other) and the slope's as mechanisms larger than the closure."""
+    p = driver(DEBRIS, "--quick", "--set", "drapery.duration=0.3", out=tmp_path)
+    assert p.returncode == 0, p.stderr[-2000:]
+    case = tmp_path / "drapery_debris"
+    m = json.loads((case / "case.json").read_text())
+    assert m["status"] == "ok" and m["load"] == "debris" and m["block"] is None
+    heap = m["debris"]
+    assert heap["spheres"] == math.ceil(60.0 / (drapery.ROCK_DENSITY * math.pi / 6 * 0.15 ** 3))
+    # free flight until the lowest layer has fallen the release gap onto the slope
+    g, b = 9.81, math.radians(60.0)
+    landing = math.sqrt(2 * drapery.GAP / (g * math.cos(b)))
+    rows = np.genfromtxt(case / "block.csv", delimiter=",", names=True)
+    free = rows["time"] < 0.9 * landing
+    assert free.sum() > 10
+    v0 = np.array(heap["velocity"])
+    assert np.allclose(rows["vy"][free], v0[1], rtol=0, atol=1e-9)
+    assert np.allclose(rows["vz"][free], v0[2] - g * rows["time"][free], rtol=1e-9, atol=1e-9)
+    assert np.all(rows["force"][free] == 0.0)
+    # then it reached the mesh: the net's force on the heap, the mesh lifted off the slope
+    assert m["peak_block_force"] > 100.0 and m["time_of_peak_block_force"] > landing
+    assert m["bulge_peak"] > 0.05 and m["top_row_force_peak"] > 100.0
+    energy = m["energy"]
+    e0, closure = energy["initial_energy"], energy["closure_error"]
+    assert closure < 1e-3
+    for mechanism in ("friction: debris on mesh and on itself",
+                      "friction: net and debris on the slope"):
+        assert energy["mechanisms"][mechanism] > 10 * closure * e0, mechanism
+    assert energy["mechanisms"]["local damping (to ground)"] == 0.0
+    shares = m["block_end"]["fractions"]
+    assert sum(shares.values()) == pytest.approx(1.0) and m["block_verdict"].startswith("debris:")
+    assert (case / "drapery_debris.pvd").is_file()

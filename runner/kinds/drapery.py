@@ -19,12 +19,14 @@ by its own mechanism: BUDGET), ruptures and the ParaView series.
 import dataclasses
 import math
 import os
+import shutil
 import time
 
 import numpy as np
 
-from postprocess import dumps, record
+from postprocess import dumps, record, vtu
 from postprocess.csvio import read_deck_table, write_csv
+from postprocess.errors import PostprocessError
 from postprocess.meta import PanelInfo
 
 from .. import INPUTS, budget, dissipation, engine, netoutputs, timestep
@@ -47,6 +49,7 @@ DEBRIS_TYPE = 9          # the debris spheres' atom type, with the 14-type conta
 DEBRIS_TYPES = 14        # (include/contacts.in: the same contact values for every type pair)
 DEBRIS_MOLECULE = 3      # the first sphere's molecule ID, one each: the deck excludes contacts
                          # within a molecule (the nets' are 1 and 2)
+TERRAIN_TOLERANCE = 1e-6  # m: a terrain vertex this far above the slope plane still lies on it
 CONTACT_FRACTION = 1e-6  # the load touched the mesh: a peak force above this times its weight
 DEBRIS_GAP = 0.01        # the heap's spheres a hundredth of a diameter apart at release
 EXAMPLE = "WireNet's drapery example (issue #42: a 10 m x 10 m mesh on a 60 degree slope)"
@@ -97,7 +100,7 @@ KEYS = (
              EXAMPLE + " (a block)", choices=("block", "debris")),
     _drapery("debris_mass", "number", 500.0, "kg", "debris: the heap's mass (spheres of "
              f"drapery.debris_diameter at {ROCK_DENSITY:g} kg/m3, as many as it takes)",
-             "the example's block mass, as debris", low=1.0, high=1e6, quick=60.0),
+             "the example's block mass, as debris", low=1.0, high=1e6, quick=150.0),
     _drapery("debris_diameter", "number", 0.2, "m", "debris: the spheres' diameter (larger "
              "than the mesh's longest node spacing: the wires between nodes are not contact "
              "surfaces, only the node spheres are)", "a design choice: cobbles (ISO 14688-1: "
@@ -105,6 +108,12 @@ KEYS = (
     _drapery("debris_width", "number", 2.0, "m", "debris: the heap's width across the slope, "
              "centred on drapery.point_x (the heap is as many rows up the slope as layers "
              "deep)", "a design choice", low=0.01, high=100.0, quick=0.6),
+    _drapery("terrain", "file", "", "", "the ground as a surface: an ASCII STL file (relative to "
+             "the case file) in the drapery's world frame (m; the slope plane through the "
+             "origin, x across, up the slope towards +y and +z), nowhere above the slope plane "
+             "(the mesh is laid on the plane and settles onto the terrain); the nodes and the "
+             "debris touch it with the node contact law; needs drapery.load debris (the block "
+             "touches the analytic slope only); empty: the slope plane", "a design choice"),
     _drapery("point_x", "number", 0.0, "m", "the block's path across the slope: offset from "
              "the panel's centre line", EXAMPLE),
     _drapery("settle_time", "number", 0.5, "s", "settling of the laid mesh under its weight "
@@ -345,6 +354,8 @@ class Setup:
             pts = np.vstack([pts, self.slope.point([c["drapery.point_x"]] * 2,
                                                    [c["drapery.release_distance"] - run_out] * 2,
                                                    [0.0, self.debris_top])])
+        if c["drapery.terrain"]:        # LIGGGHTS keeps a fixed mesh's triangles in the box
+            pts = np.vstack([pts, vtu.read_stl(c["drapery.terrain"])[0]])
         box = [(float(pts[:, a].min() - MARGIN), float(pts[:, a].max() + MARGIN)) for a in range(3)]
         self.data_path = os.path.join(workdir, "drapery.data")
         tilt_data(self.panel.data_path, self.data_path, laid, box, extra,
@@ -406,6 +417,8 @@ class Setup:
                  relax_steps=self.relax_steps, steps=self.steps, every=self.every,
                  dump_every=self.dump_every, out=".",
                  frame_every=max(int(math.ceil(self.steps / c["output.frames"])), 1))
+        if c["drapery.terrain"]:
+            v.update(ground="terrain", terrain_file=c["drapery.terrain"])
         if len(self.debris):
             v.update(debris=1, debris_type=DEBRIS_TYPE, atom_types=DEBRIS_TYPES,
                      pair_contacts=1, load="debris", frames_body="none")
@@ -526,11 +539,38 @@ class Drapery(CaseKind):
                                        "gap")
         if not case["gravity"] > 0:
             fail("gravity", "a drapery hangs and its block falls under gravity: gravity > 0")
+        if case["drapery.terrain"]:
+            cls.check_terrain(case, fail)
         plate, spacing = case["drapery.plate_radius"], case["drapery.anchor_spacing"]
         if plate > 0 and not 2 * plate < spacing:
             fail("drapery.plate_radius", f"{plate:g} m: plates need a grid whose bolts they do not "
                                          f"overlap (drapery.anchor_spacing {spacing:g} m > 2 x "
                                          "plate_radius)")
+
+    @staticmethod
+    def check_terrain(case, fail):
+        """drapery.terrain: an ASCII STL of triangles with every vertex on or below the slope
+        plane (so none of it can cut the mesh laid on the plane), with the debris load; the path
+        made absolute."""
+        key = "drapery.terrain"
+        if case["drapery.load"] != "debris":
+            fail(key, "the block touches the analytic slope only: a terrain needs "
+                      "drapery.load = 'debris'")
+        path = os.path.join(os.path.dirname(case.path or "."), case[key])
+        if not os.path.isfile(path):
+            fail(key, f"no such file: {path}")
+        try:
+            points, triangles = vtu.read_stl(path)
+        except PostprocessError as exc:
+            fail(key, str(exc))
+        if not len(triangles):
+            fail(key, f"{path}: no triangles (an ASCII STL: facet, outer loop, vertex x y z)")
+        off = Slope(case["drapery.slope"]).coordinates(points)[2]
+        if off.max() > TERRAIN_TOLERANCE:
+            k = int(np.argmax(off))
+            fail(key, f"{path}: vertex {tuple(float(v) for v in points[k])} is {off[k]:.4g} m "
+                      "above the slope plane (the terrain must lie on or below it)")
+        case.values[key] = os.path.abspath(path)
 
     def weight(self):
         return 20
@@ -608,6 +648,8 @@ class Drapery(CaseKind):
                                        panel.families)
         netoutputs.write_ruptures(os.path.join(case_dir, "ruptures.csv"), ruptures)
         netoutputs.write_series(case_dir, workdir, setup.data_path, setup.block.path, setup.dt)
+        if self.case["drapery.terrain"]:        # for ParaView, beside the series
+            shutil.copyfile(self.case["drapery.terrain"], os.path.join(case_dir, "terrain.stl"))
         # the anchors where they were bolted: the settled mesh (the frame at the release)
         ids, settled = netoutputs.last_nodes(os.path.join(workdir, "frames", "nodes.dump"), 0)
         positions = dict(zip(ids.tolist(), settled))

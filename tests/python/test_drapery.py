@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 import lmp
+from postprocess import dumps
 from runner import casefile
 from runner.errors import RunError
 from runner.kinds import drapery
@@ -240,7 +241,7 @@ def test_debris_falls_freely_then_loads_the_mesh_and_closes_its_budget(tmp_path)
     m = json.loads((case / "case.json").read_text())
     assert m["status"] == "ok" and m["load"] == "debris" and m["block"] is None
     heap = m["debris"]
-    assert heap["spheres"] == math.ceil(60.0 / (drapery.ROCK_DENSITY * math.pi / 6 * 0.15 ** 3))
+    assert heap["spheres"] == math.ceil(150.0 / (drapery.ROCK_DENSITY * math.pi / 6 * 0.15 ** 3))
     # free flight until the lowest layer has fallen the release gap onto the slope
     g, b = 9.81, math.radians(60.0)
     landing = math.sqrt(2 * drapery.GAP / (g * math.cos(b)))
@@ -264,3 +265,68 @@ def test_debris_falls_freely_then_loads_the_mesh_and_closes_its_budget(tmp_path)
     shares = m["block_end"]["fractions"]
     assert sum(shares.values()) == pytest.approx(1.0) and m["block_verdict"].startswith("debris:")
     assert (case / "drapery_debris.pvd").is_file()
+
+
+# ---- terrain --------------------------------------------------------------------------------
+
+def write_terrain(path, drop, angle=60.0, across=(-3.0, 3.0), up=(-8.0, 3.0)):
+    """An ASCII STL of two triangles: the slope plane's rectangle ``drop`` m below it."""
+    slope = drapery.Slope(angle)
+    (x0, x1), (u0, u1) = across, up
+    a, b, c, d = slope.point([x0, x1, x1, x0], [u0, u0, u1, u1], [-drop] * 4)
+    facets = "".join(
+        "facet normal 0 0 1\n outer loop\n" + "".join(
+            f"  vertex {p[0]!r} {p[1]!r} {p[2]!r}\n" for p in tri) + " endloop\nendfacet\n"
+        for tri in ((a, b, c), (a, c, d)))
+    path.write_text(f"solid terrain\n{facets}endsolid terrain\n")
+
+
+@pytest.mark.parametrize("text, stl, key, words", [
+    ('load = "debris"\nterrain = "missing.stl"\n', None, "drapery.terrain", "no such file"),
+    ('terrain = "t.stl"\n', 0.05, "drapery.terrain", "drapery.load = 'debris'"),
+    ('load = "debris"\nterrain = "t.stl"\n', -0.01, "drapery.terrain", "above the slope"),
+    ('load = "debris"\nterrain = "t.stl"\n', "solid x\nendsolid x\n", "drapery.terrain",
+     "no triangles"),
+])
+def test_bad_terrain_gets_one_line(tmp_path, text, stl, key, words):
+    if isinstance(stl, float):
+        write_terrain(tmp_path / "t.stl", stl)
+    elif stl is not None:
+        (tmp_path / "t.stl").write_text(stl)
+    bad = tmp_path / "bad.toml"
+    bad.write_text('kind = "drapery"\n[drapery]\n' + text)
+    p = driver(bad, "--quick", out=tmp_path / "out")
+    assert p.returncode == 2, p.stderr
+    assert p.stderr.strip().count("\n") == 0 and key in p.stderr and words in p.stderr, p.stderr
+    assert not (tmp_path / "out").exists()
+
+
+def test_debris_and_mesh_rest_on_an_stl_terrain_and_the_budget_closes_with_it(tmp_path):
+    """drapery.terrain: the slope plane 2 cm lower as an STL surface. The debris, released 5 mm
+    above the plane, lands on the terrain and slides on it (its lowest spheres a radius off the
+    terrain, 2 cm below where the plane would hold them, to the contact's overlap); no node goes
+    through it; the debris slides into the mesh; the terrain's contacts (fix wall/gran, their
+    work measured around it) are a mechanism of the budget larger than its closure."""
+    write_terrain(tmp_path / "bench.stl", 0.02)
+    case = tmp_path / "terrain.toml"
+    case.write_text(DEBRIS.read_text() + 'terrain = "bench.stl"\n')
+    p = driver(case, "--quick", "--set", "drapery.release_speed=10", out=tmp_path / "out")
+    assert p.returncode == 0, p.stderr[-2000:]
+    folder = tmp_path / "out" / "terrain"
+    m = json.loads((folder / "case.json").read_text())
+    assert m["status"] == "ok" and (folder / "terrain.stl").is_file()
+    slope = drapery.Slope(60.0)
+    lowest_sphere, lowest_node = np.inf, np.inf       # over every frame of the series
+    for frame in dumps.iter_frames(folder / "run" / "frames" / "nodes.dump"):
+        ids = frame.integers(frame.names.index("id"))
+        off = slope.coordinates(np.column_stack([frame.column(c) for c in "xyz"]))[2]
+        assert np.sum(ids > m["nodes"]) == m["debris"]["spheres"]
+        lowest_sphere = min(lowest_sphere, off[ids > m["nodes"]].min())
+        lowest_node = min(lowest_node, off[ids <= m["nodes"]].min())
+    assert lowest_sphere == pytest.approx(-0.02 + 0.075, abs=1e-3)
+    assert lowest_node > -0.02 + 0.0054 - 1e-3
+    energy = m["energy"]
+    terrain = energy["mechanisms"]["friction: net and debris on the slope"]
+    assert energy["closure_error"] < 1e-3
+    assert terrain > 10 * energy["closure_error"] * energy["initial_energy"]
+    assert m["peak_block_force"] > 100.0

@@ -185,7 +185,8 @@ def run(deck, workdir, variables=None, np=1, total_steps=None, label="", dt=None
     the motion has died down), reported as such; (name, steps, marker): the phase may start
     earlier, at the log line holding that marker (an impact that ends before its longest
     duration), and the counted steps are then given as at most. before = (name, steps): the
-    preparation phase by name, at most so many steps (a settling that ends once still). A case of a study in
+    preparation phase by name, at most so many steps (a settling that ends once still); (name, steps,
+    False): exactly so many. A case of a study in
     partition mode (use_partitions) runs as one partition of a shared mpirun instead
     (Partitions)."""
     workdir = Path(workdir).resolve()
@@ -367,7 +368,8 @@ class Progress:
             return
         self.last_step = (step, marked)
         if not marked:
-            what = f"{self.before[0]}: step {step}/{self.before[1]} at most" if self.before \
+            most = " at most" if self.before and (len(self.before) < 3 or self.before[2]) else ""
+            what = f"{self.before[0]}: step {step}/{self.before[1]}{most}" if self.before \
                 else f"preparing (step {step})"
             print(f"    {self.label}: {what}", file=sys.stderr, flush=True)
             return

@@ -596,7 +596,7 @@ class Drapery(CaseKind):
         wall = engine.run(INPUTS / "drapery.in", workdir, setup.variables(), np=ctx.ranks,
                           total_steps=setup.steps, label=f"drapery {c['panel.net']}",
                           dt=setup.dt, phase_marker="drapery: block released",
-                          before=("settling", setup.relax_steps))
+                          before=("settling", setup.relax_steps, False))
         table = read_table(workdir)
         facts = self.write_outputs(setup, ctx.case_dir, workdir, table)
         facts.update(panel=c["panel.net"], bending=bending, bending_source=source,

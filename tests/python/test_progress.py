@@ -73,3 +73,12 @@ def test_a_deck_that_stops_before_its_end_marker_is_not_complete(tmp_path):
     whole = tmp_path / "whole.in"
     whole.write_text(f'print "start"\nprint "{engine.END_MARKER}"\n')
     engine.run(whole, tmp_path / "b")
+
+
+def test_a_preparation_phase_of_fixed_length_is_not_at_most(tmp_path, capsys):
+    """A drapery's or an impact's settling runs its steps to the end: no 'at most'."""
+    log = tmp_path / "log.lammps"
+    log.write_text(THERMO + "1200 10 0.1\n")
+    Progress(log, total=400, label="drapery", dt=0.01, phase_marker="drapery: block released",
+             before=("settling", 3000, False)).report()
+    assert capsys.readouterr().err.strip() == "drapery: settling: step 1200/3000"

@@ -19,9 +19,10 @@ NO_CONTACT = "no-contact"            # the loading body never touched the net
 LEFT_BOX = "left-box"                # the body or atoms left the simulation box
 BUDGET_OPEN = "budget-open"          # the energy budget did not close to its tolerance
 NOT_QUASI_STATIC = "not-quasi-static"    # the quasi-static evidence failed
+NOT_SETTLED = "not-settled"          # the structure still moved under its weight at the release
 STATUSES = (RUNNING, OK, FAILED, INTERRUPTED, NO_CONTACT, LEFT_BOX, BUDGET_OPEN,
-            NOT_QUASI_STATIC)
-UNSOUND = (NO_CONTACT, LEFT_BOX, BUDGET_OPEN, NOT_QUASI_STATIC)
+            NOT_QUASI_STATIC, NOT_SETTLED)
+UNSOUND = (NO_CONTACT, LEFT_BOX, BUDGET_OPEN, NOT_QUASI_STATIC, NOT_SETTLED)
 
 # the fields of the record itself; every other key of case.json is a fact of the kind
 FIELDS = ("kind", "status", "quick", "mode", "np", "case_file", "case_fingerprint", "title",

@@ -88,7 +88,8 @@ DRAPERY_NOTE = (
     "energy the budget starts from (at the release); load: where the block ended, or the "
     "shares of the debris' spheres; travel: of the block or the heap's centre of mass, down "
     "the slope from the release; bulge: the largest rise of the mesh off the slope, normal to it, since it "
-    "settled; anchors: the largest window-mean force of one anchor of the top row and of the "
+    "settled; bulge before the load: the mesh's own rise before the load touched it (more than "
+    "a tenth of the bulge: status not-settled, doc/drapery.md \"Settling\"); anchors: the largest window-mean force of one anchor of the top row and of the "
     "grid, and of the top row together (fix wirenet/hold ... each).")
 
 
@@ -640,13 +641,15 @@ def markdown(directory, summaries, verdicts, missing, figures, dissipation=(), e
     if draperies:
         lines += _section("Drapery cases", DRAPERY_NOTE)
         lines += _table(["case", "net", "slope [deg]", "load energy [kJ]", "load",
-                         "travel [m]", "final speed [m/s]", "bulge [m]", "peak top anchor [kN]",
+                         "travel [m]", "final speed [m/s]", "bulge [m]",
+                         "bulge before the load [m]", "peak top anchor [kN]",
                          "peak grid anchor [kN]", "top row [kN]", "energy closure [-]",
                          "broken bonds"],
                         [[n, d["net"], fmt(d["slope"]),
                           fmt(d["block_energy"] / 1e3 if d["block_energy"] else None),
                           d["block_verdict"] or "n/a", fmt(d["travel"]), fmt(d["final_speed"]),
-                          fmt(d["bulge"]), kn(d["top_anchor_peak"]), kn(d["grid_anchor_peak"]),
+                          fmt(d["bulge"]), fmt(d.get("bulge_before_contact")),
+                          kn(d["top_anchor_peak"]), kn(d["grid_anchor_peak"]),
                           kn(d["top_row_force_peak"]), fmt(d["closure_error"]),
                           fmt(d["broken_bonds"])] for n, d in draperies.items()])
     beams = {n: s for n, s in summaries.items() if s.get("beam")}

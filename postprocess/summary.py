@@ -142,6 +142,7 @@ def drapery_summary(meta):
             "block_energy": energy.get("initial_energy"),
             "block_verdict": meta.get("block_verdict"), "travel": end.get("travel"),
             "final_speed": end.get("final_speed"), "bulge": meta.get("bulge_peak"),
+            "bulge_before_contact": (meta.get("before_contact") or {}).get("bulge"),
             "top_anchor_peak": (meta.get("top_anchor_peak") or {}).get("force"),
             "grid_anchor_peak": (meta.get("grid_anchor_peak") or {}).get("force"),
             "top_row_force_peak": meta.get("top_row_force_peak"),

@@ -50,6 +50,8 @@ DEBRIS_TYPES = 14        # (include/contacts.in: the same contact values for eve
 DEBRIS_MOLECULE = 3      # the first sphere's molecule ID, one each: the deck excludes contacts
                          # within a molecule (the nets' are 1 and 2)
 TERRAIN_TOLERANCE = 1e-6  # m: a terrain vertex this far above the slope plane still lies on it
+SETTLED_FRACTION = 0.1   # the mesh's own rise before the load touches it, at most this of the
+                         # peak bulge: else the bulge and the anchors' loads are the settling's
 CONTACT_FRACTION = 1e-6  # the load touched the mesh: a peak force above this times its weight
 DEBRIS_GAP = 0.01        # the heap's spheres a hundredth of a diameter apart at release
 EXAMPLE = "WireNet's drapery example (issue #42: a 10 m x 10 m mesh on a 60 degree slope)"
@@ -585,6 +587,12 @@ class Drapery(CaseKind):
             return (record.NO_CONTACT, f"the {what} never touched the mesh: check "
                                        "drapery.release_distance, drapery.point_x and "
                                        "drapery.duration")
+        before = facts.get("before_contact") or {}
+        if before.get("bulge", 0.0) > SETTLED_FRACTION * facts["bulge_peak"]:
+            return (record.NOT_SETTLED, f"the mesh was still moving when the load was released: "
+                    f"it rose {before['bulge']:.3g} m off the slope before the load touched it, "
+                    f"{before['bulge'] / facts['bulge_peak']:.0%} of the peak bulge "
+                    f"({facts['bulge_peak']:.3g} m); lengthen drapery.settle_time")
         return self.budget_verdict(facts)
 
     def run(self, index, ctx):
@@ -665,6 +673,14 @@ class Drapery(CaseKind):
             end = dict(end, **heap)
         k_lift = int(np.argmax(t["lift"]))
         k_force = int(np.argmax(t["force_mean"]))
+        # the mesh's own motion from the release to the load's first touch (the settling's test)
+        load_mass = len(setup.debris) * setup.debris_one if debris else setup.block.mass
+        touching = np.nonzero(t["force_mean"] > CONTACT_FRACTION * load_mass * setup.g)[0]
+        k_touch = int(touching[0]) if len(touching) else len(time_) - 1
+        before_contact = dict(time=float(time_[k_touch]) if len(touching) else None,
+                              bulge=float(t["lift"][:k_touch + 1].max()),
+                              mesh_kinetic_energy=float(t["ke_net"][:k_touch + 1].max()),
+                              top_row_force=[float(top[0]), float(top[:k_touch + 1].max())])
         closure = dict(closure_error=float(np.max(np.abs(error))), initial_energy=e0,
                        final={k: float(terms[k][-1]) for k in names},
                        final_error=float(error[-1]),
@@ -682,6 +698,7 @@ class Drapery(CaseKind):
             top_anchor_peak=peak("top"), grid_anchor_peak=peak("grid"),
             top_row_force_peak=float(top.max()), grid_force_peak=float(grid.max()),
             bulge_peak=float(t["lift"][k_lift]), time_of_bulge_peak=float(time_[k_lift]),
+            before_contact=before_contact,
             gap_peak=float(t["gap"].max()),
             peak_block_force=float(t["force_mean"][k_force]),
             time_of_peak_block_force=float(time_[k_force]),

@@ -31,6 +31,31 @@ def driver(*args, out=None):
                           capture_output=True, text=True, env=env, timeout=1800)
 
 
+def assert_unsettled(p, m):
+    """The quick draperies end `not-settled` (exit 3), and rightly: their mesh still creeps down
+    the slope when the load is released (doc/drapery.md, "Settling"), and most of the bulge is
+    its own. Everything else of such a run is checked as for an ok run."""
+    assert p.returncode == 3, p.stderr[-2000:]
+    assert "not-settled" in p.stderr and "drapery.settle_time" in p.stderr, p.stderr[-2000:]
+    assert m["status"] == "not-settled"
+    before = m["before_contact"]
+    assert before["time"] > 0 and before["bulge"] > drapery.SETTLED_FRACTION * m["bulge_peak"]
+
+
+@pytest.mark.parametrize("bulge_before, status", [(0.009, None), (0.011, "not-settled")])
+def test_a_mesh_that_rose_before_the_load_touched_it_is_not_settled(bulge_before, status):
+    """The settling's test: the mesh's own rise off the slope before the load touches it, at
+    most a tenth of the peak bulge; the budget is judged only after it."""
+    case = casefile.read(str(EXAMPLE), quick=True)
+    facts = dict(peak_block_force=100.0, block=dict(mass=500.0), gravity=9.81, bulge_peak=0.1,
+                 before_contact=dict(time=0.1, bulge=bulge_before),
+                 energy=dict(closure_error=0.0), momentum=None)
+    verdict = drapery.Drapery(case).verdict(facts)
+    assert (verdict[0] if verdict else None) == status
+    if verdict:
+        assert "drapery.settle_time" in verdict[1] and "0.011 m" in verdict[1]
+
+
 # ---- geometry -------------------------------------------------------------------------------
 
 @pytest.mark.parametrize("angle", [30.0, 60.0, 75.0])
@@ -130,14 +155,14 @@ def test_quick_is_the_kinds_small_strip_and_a_stated_size_is_kept(tmp_path):
 def quick_example(tmp_path_factory):
     out = tmp_path_factory.mktemp("drapery")
     p = driver(EXAMPLE, "--quick", out=out)
-    assert p.returncode == 0, p.stderr[-2000:]
+    assert_unsettled(p, json.loads((out / "drapery" / "case.json").read_text()))
     return out
 
 
 def test_quick_example_closes_its_budget_and_the_block_runs_under_the_mesh(quick_example):
     case = quick_example / "drapery"
     m = json.loads((case / "case.json").read_text())
-    assert m["status"] == "ok" and m["mode"] == "quick" and m["dissipation"] == "physical"
+    assert m["mode"] == "quick" and m["dissipation"] == "physical"
     energy = m["energy"]
     e0 = energy["initial_energy"]
     assert e0 == pytest.approx(0.5 * 500.0 * 6.0 ** 2, rel=1e-3)   # released at 6 m/s (quick)
@@ -184,9 +209,9 @@ def test_secured_quick_example_spreads_each_bolt_over_its_plate(tmp_path):
     """Secured drapery (drapery.plate_radius): each bolt holds the nodes under its plate and its
     load is their sum; the budget still closes and the two bolts' loads mirror each other."""
     p = driver(EXAMPLE, "--quick", "--set", "drapery.plate_radius=0.15", out=tmp_path)
-    assert p.returncode == 0, p.stderr[-2000:]
     m = json.loads((tmp_path / "drapery" / "case.json").read_text())
-    assert m["status"] == "ok" and m["plate_radius"] == 0.15
+    assert_unsettled(p, m)
+    assert m["plate_radius"] == 0.15
     grid = m["anchors"]["grid"]
     assert len(grid) == 2 and all(v["nodes"] > 1 for v in grid.values())
     assert sorted(v["nodes"] for v in grid.values()) == sorted(m["plate_nodes"])
@@ -236,10 +261,10 @@ def test_debris_falls_freely_then_loads_the_mesh_and_closes_its_budget(tmp_path)
     the gap and lifts the mesh; the budget closes with the debris' pair contacts (with the mesh
     and each other) and the slope's as mechanisms larger than the closure."""
     p = driver(DEBRIS, "--quick", "--set", "drapery.duration=0.3", out=tmp_path)
-    assert p.returncode == 0, p.stderr[-2000:]
     case = tmp_path / "drapery_debris"
     m = json.loads((case / "case.json").read_text())
-    assert m["status"] == "ok" and m["load"] == "debris" and m["block"] is None
+    assert_unsettled(p, m)
+    assert m["load"] == "debris" and m["block"] is None
     heap = m["debris"]
     assert heap["spheres"] == math.ceil(150.0 / (drapery.ROCK_DENSITY * math.pi / 6 * 0.15 ** 3))
     # free flight until the lowest layer has fallen the release gap onto the slope
@@ -311,10 +336,10 @@ def test_debris_and_mesh_rest_on_an_stl_terrain_and_the_budget_closes_with_it(tm
     case = tmp_path / "terrain.toml"
     case.write_text(DEBRIS.read_text() + 'terrain = "bench.stl"\n')
     p = driver(case, "--quick", "--set", "drapery.release_speed=10", out=tmp_path / "out")
-    assert p.returncode == 0, p.stderr[-2000:]
     folder = tmp_path / "out" / "terrain"
     m = json.loads((folder / "case.json").read_text())
-    assert m["status"] == "ok" and (folder / "terrain.stl").is_file()
+    assert_unsettled(p, m)
+    assert (folder / "terrain.stl").is_file()
     slope = drapery.Slope(60.0)
     lowest_sphere, lowest_node = np.inf, np.inf       # over every frame of the series
     for frame in dumps.iter_frames(folder / "run" / "frames" / "nodes.dump"):

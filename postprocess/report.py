@@ -85,7 +85,9 @@ def _component_row(name, f):
 DRAPERY_NOTE = (
     "A mesh hung on a slope from its top anchors and bolted on a grid, hit by a block or a "
     "debris heap from upslope (runner/kinds/drapery.py, doc/drapery.md). Load energy: the "
-    "energy the budget starts from (at the release); load: where the block ended, or the "
+    "largest energy of a term of the budget (the load's kinetic energy at the release, or the "
+    "potential energy it gives up coming down from rest), to which the closure is relative; "
+    "load: where the block ended, or the "
     "shares of the debris' spheres; travel: of the block or the heap's centre of mass, down "
     "the slope from the release; bulge: the largest rise of the mesh off the slope, normal to it, since it "
     "settled; bulge before the load: the mesh's own rise before the load touched it (more than "

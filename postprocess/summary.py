@@ -139,7 +139,7 @@ def drapery_summary(meta):
     energy = meta.get("energy") or {}
     end = meta.get("block_end") or {}
     return {"net": meta.get("panel"), "slope": meta.get("slope"),
-            "block_energy": energy.get("initial_energy"),
+            "block_energy": energy.get("reference_energy", energy.get("initial_energy")),
             "block_verdict": meta.get("block_verdict"), "travel": end.get("travel"),
             "final_speed": end.get("final_speed"), "bulge": meta.get("bulge_peak"),
             "bulge_before_contact": (meta.get("before_contact") or {}).get("bulge"),

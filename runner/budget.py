@@ -74,13 +74,21 @@ def terms_of(table, terms):
     return out
 
 
-def energy_budget(table, terms):
+def energy_budget(table, terms, relative_to_largest=False):
     """Per row: every term (terms_of), their sum, the initial energy E0 (the sum at the first
-    row) and the closure error (sum - E0) / E0."""
+    row) and the closure error (sum - E0) / E0. relative_to_largest: the error relative to the
+    largest energy any term reaches instead (a load released at rest starts with next to no
+    energy, and gravity gives it all: E0 is then no scale)."""
     values = terms_of(table, terms)
     total = sum(values[t.name] for t in terms)
     e0 = float(total[0])
-    return values, total, e0, (total - e0) / e0
+    scale = max(abs(e0), largest_energy(values, terms)) if relative_to_largest else e0
+    return values, total, e0, (total - e0) / scale
+
+
+def largest_energy(values, terms):
+    """The largest energy any term reaches (J)."""
+    return max(float(np.max(np.abs(values[t.name]))) for t in terms)
 
 
 def mechanisms(values, terms, row=-1):

@@ -87,12 +87,13 @@ DRAPERY_NOTE = (
     "debris heap from upslope (runner/kinds/drapery.py, doc/drapery.md). Load energy: the "
     "largest energy of a term of the budget (the load's kinetic energy at the release, or the "
     "potential energy it gives up coming down from rest), to which the closure is relative; "
-    "load: where the block ended, or the "
-    "shares of the debris' spheres; travel: of the block or the heap's centre of mass, down "
-    "the slope from the release; bulge: the largest rise of the mesh off the slope, normal to it, since it "
-    "settled; bulge before the load: the mesh's own rise before the load touched it (more than "
-    "a tenth of the bulge: status not-settled, doc/drapery.md \"Settling\"); anchors: the largest window-mean force of one anchor of the top row and of the "
-    "grid, and of the top row together (fix wirenet/hold ... each).")
+    "load: where the block ended, or the shares of the debris' spheres; travel: of the block "
+    "or the heap's centre of mass, down the slope from the release; bulge: the largest rise "
+    "of the mesh off the slope, normal to it, since it settled; bulge before the load: the "
+    "mesh's own rise before the load touched it (more than a tenth of the bulge: status "
+    "not-settled, doc/drapery.md \"Settling\"); anchors: the largest window-mean force of one "
+    "anchor of the top row and of the grid, and of the top row together (fix wirenet/hold "
+    "... each).")
 
 
 def _fence_rows(fences):

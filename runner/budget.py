@@ -82,13 +82,13 @@ def energy_budget(table, terms, relative_to_largest=False):
     values = terms_of(table, terms)
     total = sum(values[t.name] for t in terms)
     e0 = float(total[0])
-    scale = max(abs(e0), largest_energy(values, terms)) if relative_to_largest else e0
+    scale = reference_energy(values, terms, e0) if relative_to_largest else e0
     return values, total, e0, (total - e0) / scale
 
 
-def largest_energy(values, terms):
-    """The largest energy any term reaches (J)."""
-    return max(float(np.max(np.abs(values[t.name]))) for t in terms)
+def reference_energy(values, terms, e0):
+    """The larger of |E0| and the largest energy any term reaches (J)."""
+    return max(abs(e0), *(float(np.max(np.abs(values[t.name]))) for t in terms))
 
 
 def mechanisms(values, terms, row=-1):

@@ -185,10 +185,9 @@ def run(deck, workdir, variables=None, np=1, total_steps=None, label="", dt=None
     the motion has died down), reported as such; (name, steps, marker): the phase may start
     earlier, at the log line holding that marker (an impact that ends before its longest
     duration), and the counted steps are then given as at most. before = (name, steps): the
-    preparation phase by name, at most so many steps (a settling that ends once still); (name, steps,
-    False): exactly so many. A case of a study in
-    partition mode (use_partitions) runs as one partition of a shared mpirun instead
-    (Partitions)."""
+    preparation phase by name, at most so many steps (a settling that ends once still);
+    (name, steps, False): exactly so many. A case of a study in partition mode
+    (use_partitions) runs as one partition of a shared mpirun instead (Partitions)."""
     workdir = Path(workdir).resolve()
     workdir.mkdir(parents=True, exist_ok=True)
     deck = Path(deck).resolve()

@@ -113,9 +113,8 @@ def read_support_rows(path):
     return steps, rows[0, :, 0].astype(int), rows[:, :, 1:]
 
 
-def last_nodes(path, up_to=None):
-    """(ids, positions) of the last frame of a custom dump (id type x y z), or of the last one
-    at or before step up_to (the frames go on through the rest after the impact)."""
+def last_frame(path, up_to=None):
+    """The last frame of a custom dump, or the last one at or before step up_to."""
     frame = None
     for candidate in dumps.iter_frames(path):
         if up_to is not None and candidate.step > up_to:
@@ -124,5 +123,12 @@ def last_nodes(path, up_to=None):
     if frame is None:
         raise PostprocessError(f"{path}: no frames" +
                                (f" up to step {up_to}" if up_to is not None else ""))
+    return frame
+
+
+def last_nodes(path, up_to=None):
+    """(ids, positions) of the last frame of a custom dump (id type x y z), or of the last one
+    at or before step up_to (the frames go on through the rest after the impact)."""
+    frame = last_frame(path, up_to)
     return frame.integers(frame.names.index("id")), np.column_stack(
         [frame.column(c) for c in ("x", "y", "z")])

@@ -24,7 +24,7 @@ import time
 
 import numpy as np
 
-from postprocess import dumps, record, vtu
+from postprocess import record, vtu
 from postprocess.csvio import read_deck_table, write_csv
 from postprocess.errors import PostprocessError
 from postprocess.meta import PanelInfo
@@ -344,7 +344,6 @@ class Setup:
         self.release = self.slope.point([c["drapery.point_x"]],
                                         [c["drapery.release_distance"]], [lift])[0]
         self.velocity = -c["drapery.release_speed"] * self.slope.u
-        # the box: the laid mesh and the block's start, MARGIN beyond
         self.debris, self.debris_one, extra = self.heap(data, x, y)
         # the box: the laid mesh and the load's start, MARGIN beyond; with debris, also as far
         # down the slope as a sphere sliding without friction gets in drapery.duration (atoms
@@ -353,9 +352,10 @@ class Setup:
         if len(self.debris):
             t = c["drapery.duration"]
             run_out = c["drapery.release_speed"] * t + 0.5 * self.g * math.sin(b) * t * t
+            top = self.slope.coordinates(self.debris)[2].max() + c["drapery.debris_diameter"]
             pts = np.vstack([pts, self.slope.point([c["drapery.point_x"]] * 2,
                                                    [c["drapery.release_distance"] - run_out] * 2,
-                                                   [0.0, self.debris_top])])
+                                                   [0.0, top])])
         if c["drapery.terrain"]:        # LIGGGHTS keeps a fixed mesh's triangles in the box
             pts = np.vstack([pts, vtu.read_stl(c["drapery.terrain"])[0]])
         box = [(float(pts[:, a].min() - MARGIN), float(pts[:, a].max() + MARGIN)) for a in range(3)]
@@ -378,7 +378,6 @@ class Setup:
         """drapery.load debris: (the spheres' centres, the mass of one, their Atoms lines);
         no spheres for a block. Refuses spheres that pass between the mesh's nodes."""
         c = self.case
-        self.debris_top = 0.0
         if c["drapery.load"] != "debris":
             return np.zeros((0, 3)), 0.0, []
         d = c["drapery.debris_diameter"]
@@ -391,7 +390,6 @@ class Setup:
                            f"longest node spacing ({spacing:g} m): the spheres would pass "
                            "between the nodes (the wires are not contact surfaces)")
         centres, one = debris_heap(c, self.slope, GAP)
-        self.debris_top = float(self.slope.coordinates(centres)[2].max() + d)
         lines = [f"{DEBRIS_TYPE} {p[0]!r} {p[1]!r} {p[2]!r} {d!r} {ROCK_DENSITY!r} "
                  f"{DEBRIS_MOLECULE + k}" for k, p in enumerate(centres.tolist())]
         return centres, one, lines
@@ -449,11 +447,7 @@ def debris_end(path, slope, foot):
     """Where the debris ended: (facts, verdict) from the last frame of its dump (id x y z vx vy
     vz): the fractions of the spheres below the mesh's foot, more than 2 m off the slope,
     still faster than 0.1 m/s, and the rest (held under or on the mesh)."""
-    frame = None
-    for frame in dumps.iter_frames(path):
-        pass
-    if frame is None:
-        raise RunError(f"{path}: no frame")
+    frame = netoutputs.last_frame(path)
     p = np.column_stack([frame.column(c) for c in ("x", "y", "z")])
     speed = np.linalg.norm(np.column_stack([frame.column(c) for c in ("vx", "vy", "vz")]),
                            axis=1)
@@ -683,7 +677,7 @@ class Drapery(CaseKind):
                               mesh_kinetic_energy=float(t["ke_net"][:k_touch + 1].max()),
                               top_row_force=[float(top[0]), float(top[:k_touch + 1].max())])
         closure = dict(closure_error=float(np.max(np.abs(error))), initial_energy=e0,
-                       reference_energy=max(abs(e0), budget.largest_energy(terms, terms_of)),
+                       reference_energy=budget.reference_energy(terms, terms_of, e0),
                        final={k: float(terms[k][-1]) for k in names},
                        final_error=float(error[-1]),
                        mechanisms=budget.mechanisms(terms, terms_of),

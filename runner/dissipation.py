@@ -24,6 +24,12 @@ STRUCTURAL_ZETA_SOURCE = ("Adams and Askenazi (1999), the viscous damping ratios
 # comes to rest after it (PFC's default for static solutions, 0.7): outside the energy budget.
 SETTLE_ALPHA = 0.7
 
+# Viscous damping (-C m v on every node, 1/s) while a drapery settles on its slope: local
+# damping there holds the mesh short of equilibrium (its nodes chatter in the slope contact and
+# the damping, against sign(v), acts as a dry friction: doc/drapery.md, "Settling"). 10 1/s as
+# the fence's rest (fence.REST_VISCOUS); measured on the quick drapery, 5 1/s settled slower.
+SETTLE_VISCOUS = 10.0
+
 
 def model(case):
     """'physical' when nothing damps absolute velocity during the load (damping.local 0),

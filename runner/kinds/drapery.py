@@ -25,7 +25,7 @@ import time
 import numpy as np
 
 from postprocess import record, vtu
-from postprocess.csvio import read_deck_table, write_csv
+from postprocess.csvio import read_csv, read_deck_table, write_csv
 from postprocess.errors import PostprocessError
 from postprocess.meta import PanelInfo
 
@@ -50,6 +50,7 @@ DEBRIS_TYPES = 14        # (include/contacts.in: the same contact values for eve
 DEBRIS_MOLECULE = 3      # the first sphere's molecule ID, one each: the deck excludes contacts
                          # within a molecule (the nets' are 1 and 2)
 TERRAIN_TOLERANCE = 1e-6  # m: a terrain vertex this far above the slope plane still lies on it
+SETTLE_CHECK = 0.01      # s: how often the settling asks whether the mesh is still
 SETTLED_FRACTION = 0.1   # the mesh's own rise before the load touches it, at most this of the
                          # peak bulge: else the bulge and the anchors' loads are the settling's
 CONTACT_FRACTION = 1e-6  # the load touched the mesh: a peak force above this times its weight
@@ -118,9 +119,15 @@ KEYS = (
              "touches the analytic slope only); empty: the slope plane", "a design choice"),
     _drapery("point_x", "number", 0.0, "m", "the block's path across the slope: offset from "
              "the panel's centre line", EXAMPLE),
-    _drapery("settle_time", "number", 0.5, "s", "settling of the laid mesh under its weight "
-             "(local damping, outside the budget) before the block is released",
-             "doc/drapery.md", low=0.0, high=100.0, quick=0.05),
+    _drapery("settle_time", "number", 5.0, "s", "settling of the laid mesh under its weight "
+             "before the load is released, at most (viscous damping, outside the budget; it ends "
+             "earlier once the mesh is still: drapery.settle_speed)", "doc/drapery.md",
+             low=0.0, high=100.0, quick=0.05),
+    _drapery("settle_speed", "number", 1e-3, "m/s", "the settling ends when the mesh's rms "
+             "speed falls below this (checked every 0.01 s; under the settling's viscous damping "
+             "of 10 1/s a speed v is an unbalanced acceleration of 10 v)",
+             "numerical: a stillness tolerance (the case's not-settled check judges it)",
+             low=0.0, low_open=True, high=100.0),
     _drapery("duration", "number", 3.0, "s", "simulated time after the release", EXAMPLE,
              low=0.0, low_open=True, high=100.0, quick=0.15),
     _drapery("dt_fraction", "number", 0.5, "", "time step as a fraction of the stable step of "
@@ -371,6 +378,9 @@ class Setup:
         self.duration = c["drapery.duration"]
         self.steps = int(math.ceil(self.duration / self.dt))
         self.relax_steps = int(math.ceil(c["drapery.settle_time"] / self.dt))
+        self.settle_chunk = min(max(int(math.ceil(SETTLE_CHECK / self.dt)), 1),
+                                max(self.relax_steps, 1))
+        self.settle_chunks = int(math.ceil(self.relax_steps / self.settle_chunk))
         self.every = max(int(round(c["output.row_time"] / self.dt)), 1)
         self.dump_every = self.every * int(c["output.dump_rows"])
 
@@ -413,8 +423,10 @@ class Setup:
                  vz0=repr(float(self.velocity[2])),
                  block_floor=f"floor 0 0 0 0 {n[1]!r} {n[2]!r} kn {kn!r} kt {kn / 10!r} "
                              f"mu {c['drapery.ground_mu']!r} gamma_n {gamma!r}",
-                 alpha_relax=dissipation.SETTLE_ALPHA, dt=repr(self.dt),
-                 relax_steps=self.relax_steps, steps=self.steps, every=self.every,
+                 settle_viscous=repr(dissipation.SETTLE_VISCOUS),
+                 settle_speed=repr(c["drapery.settle_speed"]), settle_chunk=self.settle_chunk,
+                 settle_chunks=self.settle_chunks, dt=repr(self.dt), steps=self.steps,
+                 every=self.every,
                  dump_every=self.dump_every, out=".",
                  frame_every=max(int(math.ceil(self.steps / c["output.frames"])), 1))
         if c["drapery.terrain"]:
@@ -423,6 +435,17 @@ class Setup:
             v.update(debris=1, debris_type=DEBRIS_TYPE, atom_types=DEBRIS_TYPES,
                      pair_contacts=1, load="debris", frames_body="none")
         return v
+
+
+def read_settling(workdir, case):
+    """settling.csv (the deck's): when the settling ended, the mesh's rms speed then, and
+    whether that was below drapery.settle_speed (else the settling ran its whole time)."""
+    row = read_csv(os.path.join(workdir, "settling.csv"), required=("step", "time",
+                                                                    "rms_speed", "still"))
+    return {"time": float(row["time"][-1]), "steps": int(row["step"][-1]),
+            "rms_speed": float(row["rms_speed"][-1]), "still": bool(row["still"][-1]),
+            "speed_limit": case["drapery.settle_speed"],
+            "viscous": dissipation.SETTLE_VISCOUS}
 
 
 def read_table(workdir):
@@ -583,9 +606,12 @@ class Drapery(CaseKind):
                                        "drapery.duration")
         before = facts.get("before_contact") or {}
         if before.get("bulge", 0.0) > SETTLED_FRACTION * facts["bulge_peak"]:
-            return (record.NOT_SETTLED, f"the mesh was still moving when the load was released: "
-                    f"it rose {before['bulge']:.3g} m off the slope before the load touched it, "
-                    f"{before['bulge'] / facts['bulge_peak']:.0%} of the peak bulge "
+            settle = facts.get("settling") or {}
+            speed = (f" (the settling ended after {settle['time']:.3g} s with the mesh at "
+                     f"{settle['rms_speed']:.2g} m/s rms)" if settle else "")
+            return (record.NOT_SETTLED, f"the mesh was still moving when the load was released"
+                    f"{speed}: it rose {before['bulge']:.3g} m off the slope before the load "
+                    f"touched it, {before['bulge'] / facts['bulge_peak']:.0%} of the peak bulge "
                     f"({facts['bulge_peak']:.3g} m); lengthen drapery.settle_time")
         return self.budget_verdict(facts)
 
@@ -598,7 +624,7 @@ class Drapery(CaseKind):
         wall = engine.run(INPUTS / "drapery.in", workdir, setup.variables(), np=ctx.ranks,
                           total_steps=setup.steps, label=f"drapery {c['panel.net']}",
                           dt=setup.dt, phase_marker="drapery: block released",
-                          before=("settling", setup.relax_steps, False))
+                          before=("settling", setup.settle_chunk * setup.settle_chunks, True))
         table = read_table(workdir)
         facts = self.write_outputs(setup, ctx.case_dir, workdir, table)
         facts.update(panel=c["panel.net"], bending=bending, bending_source=source,
@@ -610,7 +636,8 @@ class Drapery(CaseKind):
                      gravity=setup.g, damping=c["damping.local"],
                      bond_damping=c["damping.bond"], dissipation=dissipation.model(c),
                      dt=setup.dt, steps=setup.steps, duration=setup.duration,
-                     relax_steps=setup.relax_steps, nodes=int(len(setup.node_masses)),
+                     relax_steps=setup.relax_steps, settling=read_settling(workdir, c),
+                     nodes=int(len(setup.node_masses)),
                      grid_anchors=len(setup.grid), grid_points_hanging=setup.grid_skipped,
                      plate_radius=c["drapery.plate_radius"],
                      plate_nodes=[len(m) for m in setup.plates.values()],

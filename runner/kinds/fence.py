@@ -4,7 +4,7 @@ settles under its weight, then the guideline's block (the truncated cube, densit
 2600 kg/m3) hits the middle of the middle module against the fence normal.
 Deck: inputs/fence.in (include/fence_impact.in). Results, each from its own mechanism:
 
-- braking distance (the block's largest travel along the normal after first touch) and the
+- braking distance (the block's largest travel along the normal after its first touch) and the
   residual height of the middle module at rest (the least vertical distance between the top
   and bottom support ropes there), against the nominal height;
 - the window-mean reaction of every anchor and post base as a time series and its peak;
@@ -35,7 +35,7 @@ from ..budget import Term
 from ..errors import RunError
 from postprocess import record
 
-from ..block import Block, compose, floor_damping
+from ..block import Block, compose, first_touch, floor_damping
 from ..generator import generate
 from ..materials import MATERIALS, SOURCES, bending_of, rope_strength_keyword
 from ..panel import changed_options, generator_options, node_masses
@@ -768,15 +768,15 @@ class Fence(CaseKind):
         rest = read_rest(workdir)
         height = residual_height(setup, rest["nodes"], data) if rest else end_of_impact
         netoutputs.write_series(case_dir, workdir, setup.data_path, setup.block_path, setup.dt)
-        touched = np.nonzero(t["force"] > 0)[0]
-        first = int(touched[0]) if touched.size else 0
+        _, touch_travel = first_touch(time_, travel, np.column_stack([t["vx"], t["vy"], t["vz"]]),
+                                      np.array([0.0, 0.0, -setup.g]))
         speed = np.sqrt(t["vx"] ** 2 + t["vy"] ** 2 + t["vz"] ** 2)
         # stopped: the block's velocity along the normal turned (it no longer moves into the
         # fence) at some row; a block that flies over or through the fence never turns
         along = np.column_stack([t["vx"], t["vy"], t["vz"]]) @ n
         return dict(
             block_stopped=bool(np.any(along >= 0.0)),
-            braking_distance=float(np.max(travel) - travel[first]),
+            braking_distance=float(np.max(travel) - touch_travel),
             time_of_braking_distance=float(time_[int(np.argmax(travel))]),
             residual_height=height, nominal_height=float(setup.meta["fence"]["height"]),
             residual_height_ratio=height / float(setup.meta["fence"]["height"]),

@@ -13,6 +13,7 @@ files of inputs/cases/ to the report. Checked:
 """
 
 import json
+import math
 import os
 import subprocess
 
@@ -255,6 +256,39 @@ def test_floor_damping_gives_the_block_its_restitution(restitution):
     zeta = gamma * mass / (2.0 * math.sqrt(kn * mass))
     assert math.exp(-zeta * math.pi / math.sqrt(1.0 - zeta ** 2)) == pytest.approx(restitution,
                                                                                    rel=1e-12)
+
+
+def block_on_a_spring(row, t_touch=0.0137, speed=5.0, omega=200.0, end=0.05):
+    """Rows (time, travel, velocity) of a block that flies along -y at ``speed`` under gravity
+    (-z) and from ``t_touch`` on meets a linear spring along y (angular frequency omega): the
+    travel is x along -y, sin-shaped after the touch; the rows every ``row`` s."""
+    t = np.arange(0.0, end, row)
+    tau = np.clip(t - t_touch, 0.0, None)
+    x = np.where(t < t_touch, speed * t, speed * t_touch + speed / omega * np.sin(omega * tau))
+    vy = -np.where(t < t_touch, speed, speed * np.cos(omega * tau))
+    velocity = np.column_stack([np.zeros_like(t), vy, -9.81 * t])
+    return t, x, velocity
+
+
+@pytest.mark.parametrize("row", [1e-4, 1e-3, 2e-3, 4e-3])
+def test_first_touch_follows_the_momentum_the_block_lost_not_the_rows(row):
+    """The braking distance counts from the block's first touch: the time its velocity is
+    TOUCH_FRACTION short of its free flight, which for a spring of angular frequency omega comes
+    tau = sqrt(2 TOUCH_FRACTION) / omega after the touch (1 - cos(omega tau) = TOUCH_FRACTION).
+    Found between the rows: rows 40 times coarser move the travel at the touch by less than a
+    tenth of one row's flight (the first row with a force would move it by up to a whole row)."""
+    from runner.block import TOUCH_FRACTION, first_touch
+    omega, speed, t_touch = 200.0, 5.0, 0.0137
+    t, x, v = block_on_a_spring(row, t_touch, speed, omega)
+    when, travel = first_touch(t, x, v, np.array([0.0, 0.0, -9.81]))
+    lag = math.acos(1.0 - TOUCH_FRACTION) / omega
+    assert when == pytest.approx(t_touch + lag, abs=max(0.05 * lag, 0.05 * row))
+    exact = speed * t_touch + speed / omega * math.sin(omega * lag)
+    assert travel == pytest.approx(exact, abs=0.1 * speed * row)
+    # a block that never touched: the first row's
+    free = np.arange(0.0, 0.01, row)
+    assert first_touch(free, speed * free, np.column_stack(
+        [0 * free, -speed + 0 * free, -9.81 * free]), np.array([0.0, 0.0, -9.81])) == (0.0, 0.0)
 
 
 def test_a_block_through_the_quick_fence_keeps_the_budget_and_skips_the_rest(tmp_path):

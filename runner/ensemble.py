@@ -413,7 +413,9 @@ class _Checks:
             for item in schema.unsourced(self.case):
                 key = schema.BY_PATH[item["key"]]
                 if key.type not in SCALABLE:
-                    skipped.append((key.path, f"a {key.type}, not a number"))
+                    article = "an" if key.type[0] in "aeiou" else "a"
+                    skipped.append((key.path, f"{article} {key.type}: a factor does not scale "
+                                              "it"))
                 elif self._is_zero(key.path):
                     skipped.append((key.path, "0: no factor changes it"))
                 else:

@@ -232,3 +232,24 @@ def test_twin_from_the_runs_preload_is_the_twin_with_its_own(case, tmp_path):
     assert own == shared
     assert "as left in" in (folder / "slow" / "log.lammps").read_text()
     assert not (folder / "run" / "preload.restart").exists()
+
+
+@pytest.mark.parametrize("kind_text, check, status", [
+    ('kind = "punch"\n', True, "not-quasi-static"),
+    ('kind = "punch"\n', False, None),
+    ('kind = "tensile"\n', True, "not-quasi-static"),
+    ('kind = "tensile"\n', False, None),
+])
+def test_failed_quasi_static_evidence_decides_the_status_only_when_checked(kind_text, check,
+                                                                         status):
+    """A full punch or tensile test whose quasi-static evidence failed ends not-quasi-static
+    (exit 3); with quasi_static_check = false (a dynamic test as another code runs it: YADE's
+    punch and tensile examples, `./wirenet bench --only yade`) the evidence is recorded, not
+    judged."""
+    from runner import casefile
+    name = "punch" if "punch" in kind_text else "tensile"
+    case = casefile.parse(kind_text + f"[{name}]\nquasi_static_check = {str(check).lower()}\n")
+    facts = dict(peak_force=1.0e4, quasi_static=dict(passed=False, kinetic_energy_fraction=0.17,
+                                                     equilibrium_error=0.3))
+    verdict = kinds.BY_NAME[name](case).verdict(facts)
+    assert (verdict[0] if verdict else None) == status

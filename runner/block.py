@@ -71,7 +71,6 @@ def floor_damping(restitution, kn, mass):
     return 2.0 * zeta * math.sqrt(kn / mass)
 
 
-
 TOUCH_FRACTION = 0.005   # the block has touched once it is this part of its speed short of its
                          # free flight (0.5 %: 2.5 mm/s at 5 m/s, 0.13 m/s at 25 m/s)
 

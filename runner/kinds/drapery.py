@@ -124,8 +124,9 @@ KEYS = (
              "earlier once the mesh is still: drapery.settle_speed)", "doc/drapery.md",
              low=0.0, high=100.0, quick=0.05),
     _drapery("settle_speed", "number", 1e-3, "m/s", "the settling ends when the mesh's rms "
-             "speed falls below this (checked every 0.01 s; under the settling's viscous damping "
-             "of 10 1/s a speed v is an unbalanced acceleration of 10 v)",
+             f"speed falls below this (checked every {SETTLE_CHECK:g} s; under the settling's "
+             f"viscous damping of {dissipation.SETTLE_VISCOUS:g} 1/s a speed v is an unbalanced "
+             f"acceleration of {dissipation.SETTLE_VISCOUS:g} v)",
              "numerical: a stillness tolerance (the case's not-settled check judges it)",
              low=0.0, low_open=True, high=100.0),
     _drapery("duration", "number", 3.0, "s", "simulated time after the release", EXAMPLE,

@@ -128,6 +128,8 @@ def test_tilt_data_rewrites_positions_and_box_only(tmp_path):
     ("[drapery]\nload = \"mud\"\n", "drapery.load"),
     ("[drapery]\ndebris_diameter = 0.0\n", "drapery.debris_diameter"),
     ("[drapery]\ndebris_mass = inf\n", "drapery.debris_mass"),
+    ("[drapery]\nsettle_speed = 0.0\n", "drapery.settle_speed"),    # never still
+    ("[drapery]\nsettle_speed = nan\n", "drapery.settle_speed"),
 ])
 def test_bad_drapery_keys_get_one_line(tmp_path, text, key):
     bad = tmp_path / "bad.toml"

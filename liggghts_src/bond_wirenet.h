@@ -105,7 +105,8 @@ class BondWirenet : public Bond {
   void set_type(int type, const WireNet::BondTypeSpec &spec);
   void build_list();
   void init_record(const Entry &e, double length);
-  inline void compute_wire(int index, const WireEntry &e, double dx, double dy, double dz, double r, int eflag, double **f);
+  template <bool DAMPED> inline void compute_wire(int index, const WireEntry &e, double dx, double dy, double dz, double r, int eflag, double **f);
+  template <bool DAMPED> void compute_wires(int eflag, double **x, double **f);
   template <int EVFLAG, bool STRENGTH, bool SECTION> void compute_beams(int eflag, int q0, int q1);
   void pad_last_pair(WireNet::BeamSection<WireNet::Lanes> *s);
   void break_beam(BeamPair &p, int k);

@@ -320,6 +320,12 @@ void BondWirenet::build_list()
   }
   nbeam += (int)sections.size();
   if (!sections.empty()) pad_last_pair(&section_list.back());
+  // at most one damping load per bond and compute(): reserved with the list, so that the
+  // kernels' push_back never allocates
+  if (any_damping) {
+    wire_damp.reserve(wire_list.size());
+    beam_damp.reserve(2 * beam_list.size());
+  }
   list_version = history->list_version();
 }
 

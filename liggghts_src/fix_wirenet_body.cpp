@@ -255,7 +255,7 @@ double node_contact(const FixWirenetBody::Law &law, double delta, const Vector3d
 }
 
 FixWirenetBody::FixWirenetBody(LAMMPS *lmp, int narg, char **arg) :
-  Fix(lmp, narg, arg), free_body(false), gravity(Vector3d::Zero()), damping(0.0), work_damping(0.0),
+  Fix(lmp, narg, arg), soften(1.0), free_body(false), gravity(Vector3d::Zero()), damping(0.0), work_damping(0.0),
   x0(Vector3d::Zero()), vel_from(Vector3d::Zero()),
   vel_kin(Vector3d::Zero()), omega_kin(Vector3d::Zero()), q0(Quaterniond::Identity()), ramp(0.0),
   elapsed(0.0), motion_modified(false), pos(Vector3d::Zero()), vel(Vector3d::Zero()), omega(Vector3d::Zero()),
@@ -278,6 +278,7 @@ FixWirenetBody::FixWirenetBody(LAMMPS *lmp, int narg, char **arg) :
     error->all(FLERR, "fix wirenet/body: needs atoms with a radius (atom_style granular, sphere or hybrid with one)");
   update_pose();
   q_defined = q_shape;
+  law_defined = law;
 
   vector_flag = 1;
   size_vector = NVECTOR;
@@ -729,11 +730,49 @@ void FixWirenetBody::modify_velocity(int narg, char **arg)
   update_pose();
 }
 
+// fix_modify ID soften S: the nodes' contacts S times softer than defined (kn, kt / S; gamma_n
+// / sqrt(S), so the same damping ratio and restitution), for a static search whose step the
+// contact limits (a mesh settling on the ground: the equilibrium moves by weight / kn, nm). Each
+// contact's force stays what it was: its tangential spring is stretched by S_new / S_old, and
+// its node moved along the normal to the overlap that gives the same spring force. (With the
+// overlap kept, a node pressed S times harder would be thrown off the ground, its friction
+// spring lost: a resting net would slip.)
+void FixWirenetBody::soften_contacts(int narg, char **arg)
+{
+  int k = 0;
+  const double s = value(narg, arg, k, "soften", 1.0, false);
+  if (k < narg) throw std::invalid_argument(std::string("unexpected '") + arg[k] + "' after 'soften S'");
+  const double stretch = s / soften;
+  update_pose();
+  const Matrix3d R = q_shape.toRotationMatrix();
+  double **x = atom->x;
+  const double *radius = atom->radius;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  WireNet::SurfacePoint sp;
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & groupbit) || hist[i][3] == 0.0) continue;
+    for (int d = 0; d < 3; d++) hist[i][d] *= stretch;
+    const Vector3d xi(x[i][0], x[i][1], x[i][2]);
+    shape->query(R.transpose() * (xi - pos), sp);
+    const double delta = radius[i] - sp.dist;
+    if (!(delta > 0.0)) continue;
+    const Vector3d moved = xi + (delta - delta * stretch) * (R * sp.normal);
+    for (int d = 0; d < 3; d++) x[i][d] = moved[d];
+  }
+  soften = s;
+  law = law_defined;
+  law.kn /= s;
+  law.kt /= s;
+  law.gamma_n /= std::sqrt(s);
+}
+
 int FixWirenetBody::modify_param(int narg, char **arg)
 {
-  if (strcmp(arg[0], "vel") == 0) {
+  if (strcmp(arg[0], "vel") == 0 || strcmp(arg[0], "soften") == 0) {
     try {
-      modify_velocity(narg, arg);
+      if (arg[0][0] == 'v') modify_velocity(narg, arg);
+      else soften_contacts(narg, arg);
     } catch (const std::invalid_argument &e) {
       error->all(FLERR, (std::string("fix_modify wirenet/body: ") + e.what()).c_str());
     }

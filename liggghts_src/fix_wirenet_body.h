@@ -77,6 +77,10 @@ class FixWirenetBody : public Fix {
  private:
   std::unique_ptr<WireNet::BodyShape> shape;
   Law law;
+  // fix_modify soften S: the nodes' contact law is the defined one (law_defined) with kn and kt
+  // divided by S and gamma_n by sqrt(S) (the same damping ratio); 1 as defined
+  Law law_defined;
+  double soften;
   bool free_body;
   std::unique_ptr<WireNet::RigidBody> body;
   Eigen::Quaterniond q_shape_in_body;  // free: shape frame in the principal frame
@@ -136,6 +140,7 @@ class FixWirenetBody : public Fix {
 
   void parse(int narg, char **arg);
   void modify_velocity(int narg, char **arg);
+  void soften_contacts(int narg, char **arg);
   void update_pose();
   void compute_contacts(bool advance);
   int floor_npoints() const { return corners.empty() ? 1 : (int)corners.size(); }

@@ -265,6 +265,34 @@ def test_sliding_node_reaches_coulomb_limit(tmp_path):
     assert rows[-1]["p"]["w_nodes"] == 0.0    # the node does not move
 
 
+def test_soften_keeps_each_contact_force_and_scales_the_stiffness(tmp_path):
+    """fix_modify soften S (a static search's softer contact, the drapery's settling): the
+    node of the test above, pressed 1 mm into a plane sliding along x, sticking. At the switch
+    each force stays what it was: the tangential spring is stretched by S and the node moved
+    along the normal to S times the overlap (normal force kn/S times it: unchanged); then the
+    friction force grows by kt v dt / S a step. `soften 1` gives back the defined law and the
+    node its overlap, the forces again continuous. Exact to round-off: each phase is one more
+    linear increment."""
+    r, overlap, kt, mu, v, dt, soft = 0.01, 1e-3, 1e4, 0.3, 1.0, 1e-5, 4.0
+    deck = (header(1.0) + node(1, (0.0, 0.0, r - overlap), r) +
+            f"fix p all wirenet/body plane centre 0 0 0 kn {KN!r} kt {kt!r} mu {mu!r} vel {v!r} 0 0\n"
+            f"variable z1 equal z[1]\ntimestep {dt!r}\n" + thermo(["p"], 1, "v_z1") +
+            f"run 30\nfix_modify p soften {soft!r}\nrun 10\nfix_modify p soften 1\nrun 10\n")
+    rows = rows_of(lmp.run_deck(deck, tmp_path), ["p"])
+    assert len(rows) == 3 + 50                       # each run's setup row, then one per step
+    step = kt * v * dt                               # the spring's force increment per step
+    # (the phases: steps 0-30 defined, 30-40 soft, 40-50 defined; each setup row as its phase)
+    expected = [(n, n * step, 1.0) for n in range(31)] + \
+        [(n, 30 * step + (n - 30) * step / soft, soft) for n in range(30, 41)] + \
+        [(n, 30 * step + 10 * step / soft + (n - 40) * step, 1.0) for n in range(40, 51)]
+    assert [row["step"] for row in rows] == [n for n, _, _ in expected]
+    for row, (n, ft, s) in zip(rows, expected):
+        assert -row["p"]["fx"] == pytest.approx(ft, rel=1e-9, abs=1e-12), n
+        assert row["p"]["fz"] == pytest.approx(-KN * overlap, rel=1e-9), n
+        assert row["z1"] == pytest.approx(r - s * overlap, rel=1e-12), n
+    assert 50 * step < mu * KN * overlap             # sticking all along: no slip hides a jump
+
+
 def test_a_moving_body_finds_nodes_that_never_moved(tmp_path):
     """The fix searches contacts only among the nodes near the body, listed again when atoms are
     re-neighboured and when the body has moved half the skin. Here nothing else moves (the nodes
@@ -685,6 +713,10 @@ BAD_MODIFY = {
                                   "unknown keyword 'spin' after 'vel vx vy vz' (only 'ramp T')"),
     "extra value after ramp": ("", "vel 0 0 -1 ramp 1 2", "unexpected '2' after 'ramp T'"),
     "vel of a free body": ("mass 1", "vel 0 0 1", "'vel' sets the motion of a kinematic body"),
+    "soften below 1": ("", "soften 0.5", "soften must be >= 1 (got 0.5)"),
+    "soften without a factor": ("", "soften", "'soften' needs a value"),
+    "inf soften": ("", "soften inf", "soften must be a finite number (got 'inf')"),
+    "extra value after soften": ("", "soften 4 2", "unexpected '2' after 'soften S'"),
 }
 
 

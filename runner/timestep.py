@@ -41,10 +41,10 @@ def read(workdir, tag=""):
     return StableStep(*(float(v) for v in found.groups()))
 
 
-def of_panel(panel, variables, workdir):
+def of_panel(panel, variables, workdir, name="timestep"):
     """The stable steps of a generated panel (runner/panel.Panel) with the true masses and the
-    materials of the case's deck variables: inputs/timestep.in, one rank."""
-    probe = os.path.join(workdir, "timestep")
+    materials of the case's deck variables: inputs/timestep.in, one rank, in workdir/name."""
+    probe = os.path.join(workdir, name)
     engine.run(INPUTS / "timestep.in", probe,
                dict(variables, data=os.path.abspath(panel.data_path),
                     types=os.path.abspath(panel.types_path), layers=panel.layers),

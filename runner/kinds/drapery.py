@@ -51,6 +51,10 @@ DEBRIS_MOLECULE = 3      # the first sphere's molecule ID, one each: the deck ex
                          # within a molecule (the nets' are 1 and 2)
 TERRAIN_TOLERANCE = 1e-6  # m: a terrain vertex this far above the slope plane still lies on it
 SETTLE_CHECK = 0.01      # s: how often the settling asks whether the mesh is still
+SETTLE_SOFTEN = 16.0     # the slope's contact with the nodes this many times softer while the
+                         # mesh settles (kn, ks; fix_modify soften): the step is then the bonds',
+                         # 2.2x the contact's on the example; the still mesh moves by its weight
+                         # / kn (nm). Not with a terrain (fix wall/gran keeps its stiffness)
 SETTLED_FRACTION = 0.1   # the mesh's own rise before the load touches it, at most this of the
                          # peak bulge: else the bulge and the anchors' loads are the settling's
 CONTACT_FRACTION = 1e-6  # the load touched the mesh: a peak force above this times its weight
@@ -373,13 +377,20 @@ class Setup:
         self.anchors_path = os.path.join(workdir, "anchors.in")
         write_group(self.anchors_path, {"top_anchors": self.top_ids, "grid_anchors": sorted(
             m for members in self.plates.values() for m in members)})
-        self.dt = c["drapery.dt_fraction"] * timestep.of_panel(
-            self.panel, dict(kind.key_variables(), bending=repr(bending)), workdir).loaded
+        variables = dict(kind.key_variables(), bending=repr(bending))
+        self.dt = c["drapery.dt_fraction"] * timestep.of_panel(self.panel, variables,
+                                                               workdir).loaded
+        # the settling's step, with the slope's contact as soft as it is meanwhile
+        self.soften = 1.0 if c["drapery.terrain"] else SETTLE_SOFTEN
+        soft = dict(variables, kn=repr(c["contact.kn"] / self.soften),
+                    ks=repr(c["contact.ks"] / self.soften))
+        self.dt_settle = c["drapery.dt_fraction"] * timestep.of_panel(
+            self.panel, soft, workdir, name="timestep_settling").loaded
         self.node_masses = self.panel.masses
         self.duration = c["drapery.duration"]
         self.steps = int(math.ceil(self.duration / self.dt))
-        self.relax_steps = int(math.ceil(c["drapery.settle_time"] / self.dt))
-        self.settle_chunk = min(max(int(math.ceil(SETTLE_CHECK / self.dt)), 1),
+        self.relax_steps = int(math.ceil(c["drapery.settle_time"] / self.dt_settle))
+        self.settle_chunk = min(max(int(math.ceil(SETTLE_CHECK / self.dt_settle)), 1),
                                 max(self.relax_steps, 1))
         self.settle_chunks = int(math.ceil(self.relax_steps / self.settle_chunk))
         self.every = max(int(round(c["output.row_time"] / self.dt)), 1)
@@ -426,7 +437,8 @@ class Setup:
                              f"mu {c['drapery.ground_mu']!r} gamma_n {gamma!r}",
                  settle_viscous=repr(dissipation.SETTLE_VISCOUS),
                  settle_speed=repr(c["drapery.settle_speed"]), settle_chunk=self.settle_chunk,
-                 settle_chunks=self.settle_chunks, dt=repr(self.dt), steps=self.steps,
+                 settle_chunks=self.settle_chunks, dt_settle=repr(self.dt_settle),
+                 settle_soften=repr(self.soften), dt=repr(self.dt), steps=self.steps,
                  every=self.every,
                  dump_every=self.dump_every, out=".",
                  frame_every=max(int(math.ceil(self.steps / c["output.frames"])), 1))
@@ -637,7 +649,9 @@ class Drapery(CaseKind):
                      gravity=setup.g, damping=c["damping.local"],
                      bond_damping=c["damping.bond"], dissipation=dissipation.model(c),
                      dt=setup.dt, steps=setup.steps, duration=setup.duration,
-                     relax_steps=setup.relax_steps, settling=read_settling(workdir, c),
+                     relax_steps=setup.relax_steps,
+                     settling=dict(read_settling(workdir, c), dt=setup.dt_settle,
+                                   contact_softened=setup.soften),
                      nodes=int(len(setup.node_masses)),
                      grid_anchors=len(setup.grid), grid_points_hanging=setup.grid_skipped,
                      plate_radius=c["drapery.plate_radius"],

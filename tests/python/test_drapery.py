@@ -15,7 +15,8 @@ import pytest
 
 import lmp
 from postprocess import dumps
-from runner import budget, casefile
+from postprocess.datafile import read_data
+from runner import budget, casefile, netoutputs
 from runner.budget import Term
 from runner.errors import RunError
 from runner.kinds import drapery
@@ -42,8 +43,15 @@ def assert_unsettled(p, m):
     before = m["before_contact"]
     assert before["time"] > 0 and before["bulge"] > drapery.SETTLED_FRACTION * m["bulge_peak"]
     settle = m["settling"]
+    # the slope's contact softer while the mesh settles: the bonds set the step, not the contact
+    # (a terrain keeps its stiffness, and the settling its step)
+    if settle["contact_softened"] == 1.0:
+        assert settle["dt"] == m["dt"]
+    else:
+        assert settle["contact_softened"] == drapery.SETTLE_SOFTEN
+        assert settle["dt"] > 1.5 * m["dt"]
     if not settle["still"]:        # it ran its whole time, the mesh still moving
-        assert settle["time"] == pytest.approx(m["relax_steps"] * m["dt"], rel=0.2)
+        assert settle["time"] == pytest.approx(m["relax_steps"] * settle["dt"], rel=0.2)
         assert settle["rms_speed"] >= settle["speed_limit"]
 
 
@@ -240,7 +248,9 @@ def test_plates_hold_the_nodes_within_their_radius():
 
 def test_secured_quick_example_spreads_each_bolt_over_its_plate(tmp_path):
     """Secured drapery (drapery.plate_radius): each bolt holds the nodes under its plate and its
-    load is their sum; the budget still closes and the two bolts' loads mirror each other."""
+    load is their sum; the budget still closes and the two bolts' loads mirror each other over
+    the run. (Not their peaks: a spike of 25 times the mean when the block passes, whose size
+    two runs that differ in round-off give 2 % or 11 % apart.)"""
     p = driver(EXAMPLE, "--quick", "--set", "drapery.plate_radius=0.15",
                "--set", "drapery.settle_speed=50", out=tmp_path)
     m = json.loads((tmp_path / "drapery" / "case.json").read_text())
@@ -250,13 +260,21 @@ def test_secured_quick_example_spreads_each_bolt_over_its_plate(tmp_path):
     settle = m["settling"]
     assert settle["still"] and 0 < settle["rms_speed"] < 50
     assert settle["time"] == pytest.approx(drapery.SETTLE_CHECK, rel=0.01)
-    assert settle["time"] < 0.5 * m["relax_steps"] * m["dt"]
+    assert settle["time"] < 0.5 * m["relax_steps"] * settle["dt"]
     assert m["plate_radius"] == 0.15
     grid = m["anchors"]["grid"]
     assert len(grid) == 2 and all(v["nodes"] > 1 for v in grid.values())
     assert sorted(v["nodes"] for v in grid.values()) == sorted(m["plate_nodes"])
     left, right = sorted(grid.values(), key=lambda v: v["across"])
-    assert left["force"] == pytest.approx(right["force"], rel=0.05) and left["force"] > 10.0
+    assert left["force"] > 10.0 and right["force"] > 10.0
+    # each side's plates summed, window by window (the nodes' across position from the data file)
+    _, ids, forces = netoutputs.read_support_rows(tmp_path / "drapery" / "run" / "grid_anchors.txt")
+    data = read_data(tmp_path / "drapery" / "setup" / "drapery.data")
+    across = dict(zip(data.atom_ids.tolist(), data.atom("x").tolist()))
+    on_left = np.array([across[int(i)] < 0 for i in ids])
+    mean = [float(np.mean(np.linalg.norm(forces[:, side].sum(axis=1), axis=1)))
+            for side in (on_left, ~on_left)]
+    assert mean[0] == pytest.approx(mean[1], rel=0.05) and mean[0] > 1.0
 
 
 # ---- debris ---------------------------------------------------------------------------------
@@ -379,6 +397,7 @@ def test_debris_and_mesh_rest_on_an_stl_terrain_and_the_budget_closes_with_it(tm
     folder = tmp_path / "out" / "terrain"
     m = json.loads((folder / "case.json").read_text())
     assert_unsettled(p, m)
+    assert m["settling"]["contact_softened"] == 1.0     # fix wall/gran's stiffness is kept
     assert (folder / "terrain.stl").is_file()
     slope = drapery.Slope(60.0)
     lowest_sphere, lowest_node = np.inf, np.inf       # over every frame of the series

@@ -47,7 +47,10 @@ FENCE_NOTE = (
     "moving on, a failed test with no rest to find; 'ropes still moving' where the rest ended at its "
     "time limit with the middle module's ropes still moving), over the nominal height (the guideline's "
     "categories: A >= 50 %, B 30-50 %, C < 30 %); an SEL case (fence.impacts = 2) has a second "
-    "row for the second impact on the unrepaired fence; "
+    "row for the second impact on the unrepaired fence; weight on the supports, settled = the "
+    "vertical reactions of anchors, post bases and ground at the settling's end over the fence's "
+    "weight (below 100 %: the settling's damping holds the rest, and the fence released to the "
+    "block is not in equilibrium: doc/fence.md, \"Settling\"); "
     "peaks are window means of the reactions (fence.row_time). Closure and momentum as for the "
     "impact cases.")
 
@@ -613,7 +616,7 @@ def markdown(directory, summaries, verdicts, missing, figures, dissipation=(), e
         lines += _table(["case", "net", "block energy [kJ]", "block stopped", "braking distance [m]",
                          "residual height", "final block speed [m/s]", "peak anchor [kN]",
                          "peak post base [kN]", "brake elongation [m]", "energy closure [-]",
-                         "momentum error [-]", "broken bonds"],
+                         "momentum error [-]", "broken bonds", "weight on the supports, settled"],
                         [[n, f["net"], fmt(f["block_energy"] / 1e3 if f["block_energy"] else None),
                           {True: "yes", False: "no"}.get(f["block_stopped"], "n/a"),
                           fmt(f["braking_distance"]), _percent(f["residual_height_ratio"]) +
@@ -624,7 +627,8 @@ def markdown(directory, summaries, verdicts, missing, figures, dissipation=(), e
                           f"{fmt(f['post_base_peak'] / 1e3 if f['post_base_peak'] else None)} "
                           f"({f['post_base']})",
                           fmt(f["brake_elongation_peak"]), fmt(f["closure_error"]),
-                          fmt(f["momentum_error"]), fmt(f["broken_bonds"])]
+                          fmt(f["momentum_error"]), fmt(f["broken_bonds"]),
+                          _percent(f.get("weight_carried"))]
                          for n, f in _fence_rows(fences)])
         comparison = fence_comparison(summaries)
         lines += ["", "The paper's post-load claim at fence scale (compound vs square net, same "

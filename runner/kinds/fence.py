@@ -65,6 +65,7 @@ REST_WINDOW = 0.1        # s
 GAP = 0.005              # block to the foremost net node at release [m]
 TABLE = "fence.csv"      # the deck's table: names in its header (include/fence_impact.in)
 IMPACT_ENDED = "impact: ended"   # the deck's line when the impact ends before fence.duration
+SETTLED = "fence settled:"       # the deck's line at the settling's end: reactions and weight
 
 
 def _fence(name, type_, default, unit, doc, source, **kw):
@@ -272,15 +273,38 @@ SETTLED_DIR = ".settled"    # DIR/.settled/KEY/settled.restart: settled fences o
 IMPACT_ONLY = ("mass", "block_side", "speed", "impact_end", "impacts", "alpha")
 
 
-def keep_settled(restart, cached):
-    """Keep a run's settled fence for the study's other cases (written whole, then renamed:
-    a case that looks for it finds all of it or nothing)."""
+def keep_settled(restart, cached, settled):
+    """Keep a run's settled fence for the study's other cases, and its settled facts beside it
+    (settled.json; each written whole, then renamed: a case that looks for them finds all of
+    them or nothing)."""
     if not os.path.isfile(restart):
         return
     os.makedirs(os.path.dirname(cached), exist_ok=True)
+    facts = settled_facts_path(cached)
+    with open(facts + f".{os.getpid()}.tmp", "w") as fh:
+        json.dump(settled, fh)
+    os.replace(facts + f".{os.getpid()}.tmp", facts)
     tmp = cached + f".{os.getpid()}.tmp"
     shutil.copyfile(restart, tmp)
     os.replace(tmp, cached)
+
+
+def settled_facts_path(cached):
+    return os.path.join(os.path.dirname(cached), "settled.json")
+
+
+def read_settled(line):
+    """The deck's line at the settling's end (SETTLED): the supports' and the ground's vertical
+    reactions against the weight. What they do not carry is held by the settling's damping, not
+    by the structure: the settled state is that far from an equilibrium (doc/fence.md,
+    "Settling")."""
+    words = line.split()
+    try:
+        rx, ry, rz, ground, weight, ke = (float(words[k]) for k in (3, 4, 5, 10, 15, 19))
+    except (IndexError, ValueError):
+        raise RunError(f"the deck's settling line is not what the runner reads: {line.strip()}")
+    return {"reactions": [rx, ry, rz], "ground": ground, "weight": weight, "kinetic_energy": ke,
+            "weight_carried": (rz + ground) / weight if weight > 0 else None}
 
 
 def middle_module(meta):
@@ -660,10 +684,18 @@ class Fence(CaseKind):
                           phase_marker="impact: block released",
                           then=("rest", setup.rest_steps, IMPACT_ENDED) if setup.rest_steps else None,
                           before=None if variables.get("from_settled") else ("settling", setup.relax_steps))
-        if not os.path.isfile(cached):
-            keep_settled(os.path.join(workdir, "settled.restart"), cached)
+        if variables.get("from_settled"):
+            # (a settled state kept before its facts were: none to show)
+            path = settled_facts_path(cached)
+            settled = read_json(path) if os.path.isfile(path) else None
+        else:
+            line = engine.log_line(workdir, SETTLED)
+            settled = read_settled(line) if line else None
+            if settled and not os.path.isfile(cached):
+                keep_settled(os.path.join(workdir, "settled.restart"), cached, settled)
         facts = self.write_outputs(setup, ctx.case_dir, workdir, read_table(workdir))
         facts["settled_from"] = cached if variables.get("from_settled") else None
+        facts["settled"] = settled
         ended = engine.log_line(workdir, IMPACT_ENDED)
         # the impact's simulated time: ended early (the deck's line) or the whole duration
         facts["impact_time"] = float(ended.split()[2]) if ended else c["fence.duration"]

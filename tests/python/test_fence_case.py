@@ -15,12 +15,15 @@ files of inputs/cases/ to the report. Checked:
 import json
 import math
 import os
+import pathlib
 import subprocess
 
 import numpy as np
 import pytest
 
 import lmp
+from runner.errors import RunError
+from runner.kinds import fence
 
 DRIVER = lmp.ROOT / "wirenet"
 
@@ -60,6 +63,39 @@ def test_block_is_caught(study, name):
     assert 0.05 < m["braking_distance"] < m["fence"]["height"]
     assert m["residual_height_ratio"] > 0.5 and m["block_stopped"] is True
     assert m["broken_bonds"] == 0
+
+
+def test_the_settled_state_is_recorded(study):
+    """case.json's `settled`: the supports' and the ground's vertical reactions at the
+    settling's end against the fence's weight (the deck's line); the weight is the fence's mass
+    times g and the reactions carry most of it (not all: the quick fence settles for 0.3 s)."""
+    for name in ("fence_compound", "fence_compound_local", "fence_square", "fence_square_local"):
+        m = case_json(study, name)
+        s = m["settled"]
+        assert s["weight"] == pytest.approx(m["fence_mass"] * m["gravity"], rel=1e-9), name
+        assert s["weight_carried"] == pytest.approx((s["reactions"][2] + s["ground"]) /
+                                                    s["weight"], rel=1e-12)
+        assert 0.5 < s["weight_carried"] < 1.1 and s["ground"] > 0.0, name
+    assert "weight on the supports, settled" in (study / "report.md").read_text()
+
+
+def test_a_kept_settled_fence_keeps_its_facts(tmp_path):
+    """The study's settled fence (DIR/.settled/KEY/) holds the settling's facts beside the
+    restart file, for the cases that start from it; the deck's line is read by its words, and a
+    line of another form is refused by name."""
+    line = ("fence settled: reactions 3.5 1106.3 12233.2 N and the ground 1984.4 N against the "
+            "weight 16278.7 N, kinetic energy 0.49 J")
+    facts = fence.read_settled(line)
+    assert facts["reactions"] == [3.5, 1106.3, 12233.2] and facts["ground"] == 1984.4
+    assert facts["weight_carried"] == pytest.approx((12233.2 + 1984.4) / 16278.7, rel=1e-12)
+    restart = tmp_path / "settled.restart"
+    restart.write_bytes(b"restart")
+    cached = tmp_path / ".settled" / "key" / "settled.restart"
+    fence.keep_settled(str(restart), str(cached), facts)
+    assert cached.read_bytes() == b"restart"
+    assert json.loads(pathlib.Path(fence.settled_facts_path(str(cached))).read_text()) == facts
+    with pytest.raises(RunError, match="fence settled: reactions 1 2"):
+        fence.read_settled("fence settled: reactions 1 2")
 
 
 def test_supports_are_named_and_peaks_match(study):

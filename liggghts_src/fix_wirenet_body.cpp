@@ -769,9 +769,10 @@ void FixWirenetBody::soften_contacts(int narg, char **arg)
 
 int FixWirenetBody::modify_param(int narg, char **arg)
 {
-  if (strcmp(arg[0], "vel") == 0 || strcmp(arg[0], "soften") == 0) {
+  const bool vel = strcmp(arg[0], "vel") == 0, soft = strcmp(arg[0], "soften") == 0;
+  if (vel || soft) {
     try {
-      if (arg[0][0] == 'v') modify_velocity(narg, arg);
+      if (vel) modify_velocity(narg, arg);
       else soften_contacts(narg, arg);
     } catch (const std::invalid_argument &e) {
       error->all(FLERR, (std::string("fix_modify wirenet/body: ") + e.what()).c_str());

@@ -50,7 +50,7 @@ FENCE_NOTE = (
     "row for the second impact on the unrepaired fence; weight on the supports, settled = the "
     "vertical reactions of anchors, post bases and ground at the settling's end over the fence's "
     "weight (below 100 %: the settling's damping holds the rest, and the fence released to the "
-    "block is not in equilibrium: doc/fence.md, \"Settling\"); "
+    "block is not in equilibrium: doc/fence.md, \"Limits\"); "
     "peaks are window means of the reactions (fence.row_time). Closure and momentum as for the "
     "impact cases.")
 

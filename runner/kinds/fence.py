@@ -19,12 +19,13 @@ import hashlib
 import json
 import math
 import os
+import re
 import shutil
 import time
 
 import numpy as np
 
-from postprocess import dumps
+from postprocess import dumps, output
 from postprocess.csvio import read_csv, read_deck_table, write_csv
 from postprocess.datafile import read_data
 from postprocess.errors import PostprocessError
@@ -274,34 +275,37 @@ IMPACT_ONLY = ("mass", "block_side", "speed", "impact_end", "impacts", "alpha")
 
 
 def keep_settled(restart, cached, settled):
-    """Keep a run's settled fence for the study's other cases, and its settled facts beside it
-    (settled.json; each written whole, then renamed: a case that looks for them finds all of
-    them or nothing)."""
+    """Keep a run's settled fence for the study's other cases, and its settled facts (or None)
+    beside it in settled.json, the facts first: each is written whole, then renamed, so a case
+    that finds the restart file finds its facts too."""
     if not os.path.isfile(restart):
         return
     os.makedirs(os.path.dirname(cached), exist_ok=True)
-    facts = settled_facts_path(cached)
-    with open(facts + f".{os.getpid()}.tmp", "w") as fh:
-        json.dump(settled, fh)
-    os.replace(facts + f".{os.getpid()}.tmp", facts)
-    tmp = cached + f".{os.getpid()}.tmp"
-    shutil.copyfile(restart, tmp)
-    os.replace(tmp, cached)
+    if settled is not None:
+        output.write_json(settled_facts_path(cached), settled)
+    with output.atomic_path(cached) as tmp:
+        shutil.copyfile(restart, tmp)
 
 
 def settled_facts_path(cached):
     return os.path.join(os.path.dirname(cached), "settled.json")
 
 
+_NUMBER = r"(\S+)"
+SETTLED_LINE = re.compile(
+    rf"^{SETTLED} reactions {_NUMBER} {_NUMBER} {_NUMBER} N and the ground {_NUMBER} N against "
+    rf"the weight {_NUMBER} N, kinetic energy {_NUMBER} J")
+
+
 def read_settled(line):
-    """The deck's line at the settling's end (SETTLED): the supports' and the ground's vertical
-    reactions against the weight. What they do not carry is held by the settling's damping, not
-    by the structure: the settled state is that far from an equilibrium (doc/fence.md,
-    "Settling")."""
-    words = line.split()
+    """The deck's line at the settling's end (SETTLED, inputs/fence.in): the supports' and the
+    ground's vertical reactions against the weight. What they do not carry is held by the
+    settling's damping, not by the structure: the settled state is that far from an
+    equilibrium (doc/fence.md, "Limits")."""
+    found = SETTLED_LINE.match(line)
     try:
-        rx, ry, rz, ground, weight, ke = (float(words[k]) for k in (3, 4, 5, 10, 15, 19))
-    except (IndexError, ValueError):
+        rx, ry, rz, ground, weight, ke = (float(v) for v in found.groups())
+    except (AttributeError, ValueError):
         raise RunError(f"the deck's settling line is not what the runner reads: {line.strip()}")
     return {"reactions": [rx, ry, rz], "ground": ground, "weight": weight, "kinetic_energy": ke,
             "weight_carried": (rz + ground) / weight if weight > 0 else None}
@@ -691,7 +695,7 @@ class Fence(CaseKind):
         else:
             line = engine.log_line(workdir, SETTLED)
             settled = read_settled(line) if line else None
-            if settled and not os.path.isfile(cached):
+            if not os.path.isfile(cached):
                 keep_settled(os.path.join(workdir, "settled.restart"), cached, settled)
         facts = self.write_outputs(setup, ctx.case_dir, workdir, read_table(workdir))
         facts["settled_from"] = cached if variables.get("from_settled") else None

@@ -96,6 +96,10 @@ def test_a_kept_settled_fence_keeps_its_facts(tmp_path):
     assert json.loads(pathlib.Path(fence.settled_facts_path(str(cached))).read_text()) == facts
     with pytest.raises(RunError, match="fence settled: reactions 1 2"):
         fence.read_settled("fence settled: reactions 1 2")
+    # a run whose log had no such line keeps its restart file without facts
+    bare = tmp_path / "bare" / "settled.restart"
+    fence.keep_settled(str(restart), str(bare), None)
+    assert bare.is_file() and not pathlib.Path(fence.settled_facts_path(str(bare))).exists()
 
 
 def test_supports_are_named_and_peaks_match(study):

@@ -44,7 +44,7 @@ from ..params import Key
 from .base import CaseKind
 
 EAD = "EAD 340059-00-0106"
-# After an impact the block and the fence come to rest with the settling's damping, with a
+# After an impact the block and the fence come to rest with local damping (SETTLE_ALPHA), with a
 # viscous part (-C m v on every node): local damping acts on the unbalanced force only and cannot
 # stop parts that move steadily under balanced forces (upslope ropes creeping while their brakes
 # slide at the plateau kept 110 J in the compound fence for the whole 1 s). 10 1/s damps the
@@ -144,8 +144,8 @@ KEYS = (
            "fence is still after 1.9 s, the quick one after 1.7 s", "doc/fence.md (\"Settling\")",
            low=0.0, low_open=True, high=20.0, quick=2.5),
     _fence("rest_time", "number", 1.0, "s", "after each impact, the block and the fence come "
-           "to rest with the settling's damping (the guideline measures the residual height "
-           f"then): at most this long, until their kinetic energy is below {REST_KE:g} of the "
+           "to rest with local damping 0.7 and a viscous part (the guideline measures the "
+           f"residual height then): at most this long, until their kinetic energy is below {REST_KE:g} of the "
            f"block's or the middle module's support ropes have moved less than "
            f"{REST_STILL * 1e3:g} mm in {REST_WINDOW:g} s; 0: no rest, the residual height at "
            "the impact's end", "doc/fence.md", low=0.0, high=20.0, quick=0.1),
@@ -320,8 +320,8 @@ SETTLED_LINE = re.compile(
 def read_settled(line):
     """The deck's line at the settling's end (SETTLED, inputs/fence.in): the supports' and the
     ground's vertical reactions against the weight. What they do not carry is held by the
-    settling's damping, not by the structure: the settled state is that far from an
-    equilibrium (doc/fence.md, "Limits")."""
+    settling's damping or still accelerating, not carried by the structure: the settled state
+    is that far from an equilibrium (doc/fence.md, "Settling")."""
     found = SETTLED_LINE.match(line)
     try:
         rx, ry, rz, ground, weight, ke = (float(v) for v in found.groups())

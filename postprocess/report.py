@@ -636,7 +636,8 @@ def markdown(directory, summaries, verdicts, missing, figures, dissipation=(), e
                                               (" (quick cases)" if comparison["mode"] == "quick"
                                                else "") if comparison else
                                               "not evaluated (needs a compound and a square "
-                                              "fence case with the same block energy).")]
+                                              "fence case, both ok, with the same block "
+                                              "energy and dissipation model).")]
         rows = [r for r in (_component_row(n, f) for n, f in _fence_rows(fences)) if r]
         if rows:
             lines += _section("Fence cases: energy per component", COMPONENT_NOTE)

@@ -9,7 +9,10 @@ files of inputs/cases/ to the report. Checked:
   in case.json is the largest value of its column;
 - the fence's left and right anchors of each rope carry mirror-equal peaks (the impact is on
   the centre line);
-- the report holds the fence table and the compound-vs-square verdict, with both figures.
+- the report holds the fence table and the compound-vs-square verdict, with both figures;
+- the compound fences settle (still, their weight carried to 1 %); the square ones do not: their
+  posts lean over upslope under settling that applies no force (doc/fence.md, "Limits"), and
+  they end not-settled, the study with exit 3.
 """
 
 import json
@@ -34,8 +37,15 @@ def study(tmp_path_factory):
     env = dict(os.environ, WIRENET_SETUP="skip", WIRENET_BUILD=str(lmp.BUILD))
     p = subprocess.run([str(DRIVER), "run", "fence", "--quick", "--out", str(out)],
                        capture_output=True, text=True, env=env, timeout=3600)
-    assert p.returncode == 0, p.stderr[-2000:] + p.stdout[-2000:]
+    # exit 3: every case ran, some are unsound (the square fences are not settled)
+    assert p.returncode == 3, p.stderr[-2000:] + p.stdout[-2000:]
+    for name in UNSETTLED:
+        assert f"wirenet run: {name}: not-settled:" in p.stderr, p.stderr[-2000:]
     return out
+
+
+# the quick square fences do not stand still within fence.settle_time (doc/fence.md, "Limits")
+UNSETTLED = ("fence_square", "fence_square_local")
 
 
 def case_json(study, name):
@@ -45,7 +55,8 @@ def case_json(study, name):
 @pytest.mark.parametrize("name", ["fence_compound", "fence_square"])
 def test_budget_and_momentum_close(study, name):
     m = case_json(study, name)
-    assert m["status"] == "ok" and m["kind"] == "fence" and m["mode"] == "quick"
+    assert m["status"] == ("not-settled" if name in UNSETTLED else "ok")
+    assert m["kind"] == "fence" and m["mode"] == "quick"
     assert m["energy"]["closure_error"] < 1e-3
     assert m["momentum"]["error"] < 1e-3
     assert m["energy"]["initial_energy"] == pytest.approx(m["block"]["energy"], rel=0.05)
@@ -57,7 +68,7 @@ def test_budget_and_momentum_close(study, name):
     assert m["dt"] == pytest.approx(m["dt_fraction"] * together, rel=1e-9)
 
 
-@pytest.mark.parametrize("name", ["fence_compound", "fence_square"])
+@pytest.mark.parametrize("name", ["fence_compound", "fence_compound_local"])
 def test_block_is_caught(study, name):
     m = case_json(study, name)
     assert 0.05 < m["braking_distance"] < m["fence"]["height"]
@@ -76,8 +87,13 @@ def test_the_settled_state_is_recorded(study):
         assert s["weight"] == pytest.approx(m["fence_mass"] * m["gravity"], rel=1e-9), name
         assert s["weight_carried"] == pytest.approx((s["reactions"][2] + s["ground"]) /
                                                     s["weight"], rel=1e-12)
+        assert s["ground"] > 0.0, name
+        if name in UNSETTLED:
+            assert s["still"] is False and m["status"] == "not-settled", name
+            assert f"carried {s['weight_carried']:.1%} of its weight" in m["verdict"], name
+            continue
         assert s["still"] is True and abs(1.0 - s["weight_carried"]) < fence.SETTLE_CARRY, name
-        assert s["ground"] > 0.0 and s["kinetic_energy"] < fence.SETTLE_KE, name
+        assert s["kinetic_energy"] < fence.SETTLE_KE and m["status"] == "ok", name
     assert "weight on the supports, settled" in (study / "report.md").read_text()
 
 
@@ -144,14 +160,13 @@ def test_report_compares_the_nets(study):
     assert "## Fence cases (EAD 340059-00-0106)" in report
     assert "| fence_compound | compound |" in report and "| fence_square | square |" in report
     summary = json.loads((study / "summary.json").read_text())
-    comparison = summary["fence_comparison"]
-    assert comparison["compound"] == "fence_compound" and comparison["square"] == "fence_square"
-    m_c, m_s = case_json(study, "fence_compound"), case_json(study, "fence_square")
-    base = lambda m: max(v["peak"] for k, v in m["support_peaks"].items() if k.startswith("post_base"))
-    assert comparison["post_base_ratio"] == pytest.approx(base(m_c) / base(m_s), rel=1e-9)
-    assert comparison["verdict"] in report
+    # the claim compares sound cases only: not the square fences, which did not settle
+    assert summary["fence_comparison"] is None
+    assert "fence scale (compound vs square net, same fence and block): not evaluated (needs a " \
+           "compound and a square fence case, both ok," in report
     for name in ("fence_compound", "fence_square"):
-        assert (study / "figures" / f"fence_{name}.png").is_file()
+        # the report draws sound cases; every case keeps its files
+        assert (study / "figures" / f"fence_{name}.png").is_file() == (name not in UNSETTLED)
         assert (study / name / f"{name}.pvd").is_file()
         for csv in ("block", "energy", "components", "supports", "ropes", "brakes", "ruptures"):
             assert (study / name / f"{csv}.csv").is_file(), csv

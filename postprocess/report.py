@@ -49,8 +49,9 @@ FENCE_NOTE = (
     "categories: A >= 50 %, B 30-50 %, C < 30 %); an SEL case (fence.impacts = 2) has a second "
     "row for the second impact on the unrepaired fence; weight on the supports, settled = the "
     "vertical reactions of anchors, post bases and ground at the settling's end over the fence's "
-    "weight (below 100 %: the settling's damping holds the rest, and the fence released to the "
-    "block is not in equilibrium: doc/fence.md, \"Limits\"); "
+    "weight (within 1 % of 100 % when the settling ended at rest; a fence whose settling ran out "
+    "of fence.settle_time first is not-settled and released out of equilibrium: doc/fence.md, "
+    "\"Settling\"); "
     "peaks are window means of the reactions (fence.row_time). Closure and momentum as for the "
     "impact cases.")
 

@@ -700,7 +700,8 @@ class Fence(CaseKind):
                     f"the fence was not at rest when the block was released: after "
                     f"fence.settle_time ({facts['settle_time']:g} s) its supports and the ground "
                     f"carried {settled['weight_carried']:.1%} of its weight (kinetic energy "
-                    f"{settled['kinetic_energy']:.3g} J); lengthen fence.settle_time")
+                    f"{settled['kinetic_energy']:.3g} J); lengthen fence.settle_time, or see "
+                    "doc/fence.md (\"Limits\") if it does not stand at all")
         return self.budget_verdict(facts)
 
     def run(self, index, ctx):

@@ -434,6 +434,9 @@ void addFenceOptions(Options& o) {
     o.addNumber("upslope-distance", d.upslopeDistance, "m", "upslope anchors behind the posts (at y = this)");
     o.addNumber("upslope-height", d.upslopeHeight, "m", "height of the upslope anchors above the post bases", Bound::Any);
     o.addInt("upslope-brakes", d.upslopeBrakes, 0, "brake bonds in each upslope rope next to its anchor");
+    o.addNumber("upslope-sag", d.upslopeSag, "-", "installed sag of the upslope ropes at mid-chord, a fraction of the chord "
+                "(0: built straight; a straight rope pulls its hinged post upslope until the head gives it a sag)",
+                Bound::NonNegative);
     o.addInt("post-elements", d.postElements, 1, "beam elements per post");
     o.addNumber("post-tilt", d.postTilt, "deg", "posts, net and support ropes lean downslope (towards -y) by this angle about the ground line; "
                 "a vertical hinged post is an inverted pendulum that only its tension-only upslope rope holds", Bound::Any);
@@ -477,6 +480,7 @@ FenceParams fenceParams(const Options& o) {
     p.upslopeDistance = o.num("upslope-distance");
     p.upslopeHeight = o.num("upslope-height");
     p.upslopeBrakes = int(o.integer("upslope-brakes"));
+    p.upslopeSag = o.num("upslope-sag");
     p.postElements = int(o.integer("post-elements"));
     p.postTilt = o.num("post-tilt");
     p.postArea = o.num("post-area");

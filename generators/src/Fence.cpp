@@ -87,6 +87,8 @@ void FenceParams::validateLayout(const ValueText& text) const {
     if (!(fill <= 1)) throw UsageError("--rope-fill must be <= 1 (got " + text("rope-fill", fill) + ")");
     if (!(upslopeHeight < height))
         throw UsageError("--upslope-height must be < --height (got " + fmt(upslopeHeight) + " >= " + fmt(height) + ")");
+    if (!(upslopeSag <= 0.5))
+        throw UsageError("--upslope-sag must be <= 0.5 (got " + text("upslope-sag", upslopeSag) + ")");
     if (!(postTilt >= 0.0 && postTilt < 45.0))
         throw UsageError("--post-tilt must be >= 0 and < 45 degrees (got " + text("post-tilt", postTilt) + ")");
     // No two spheres may overlap at the start: a net edge node next to its rope (top and bottom
@@ -272,15 +274,24 @@ FenceModel Fence::build() const {
         for (auto& c : f.moduleCentres) c = p_.lean(c);
     }
 
-    // Upslope ropes: post head to its anchor, brakes next to the anchor.
+    // Upslope ropes: post head to its anchor, brakes next to the anchor, hanging with their
+    // installed sag below the chord (the bonds' initial lengths, hence the rope's length, follow);
+    // where the sag would take it under the ground it lies on it, as the bottom rope does (the
+    // deck's ground plane is the support rope's radius below z = 0).
     const long mu = p_.upslopeBonds();
+    const double ground = std::max(0.0, 0.5 * (p_.upslopeDiameter - p_.supportDiameter));
     for (int i = 0; i <= N; ++i) {
         const Eigen::Vector3d head = m.nodes[f.postHeads[i]].x;
         const Eigen::Vector3d anchor(p_.postX(i), p_.upslopeDistance, p_.upslopeHeight);
+        const double sag = p_.upslopeSag * (anchor - head).norm();
         std::vector<int> atoms{f.postHeads[i]};
-        for (long j = 1; j <= mu; ++j)
-            atoms.push_back(addNode(head + (anchor - head) * (double(j) / mu), j == mu ? ftype::Anchor : ftype::UpslopeRope,
-                                    p_.upslopeDiameter, j == mu ? fmol::Anchors : fmol::Upslope));
+        for (long j = 1; j <= mu; ++j) {
+            const double s = double(j) / mu;
+            Eigen::Vector3d x = head + (anchor - head) * s - Eigen::Vector3d::UnitZ() * (4.0 * sag * s * (1.0 - s));
+            if (j < mu) x.z() = std::max(x.z(), ground);
+            atoms.push_back(addNode(x, j == mu ? ftype::Anchor : ftype::UpslopeRope, p_.upslopeDiameter,
+                                    j == mu ? fmol::Anchors : fmol::Upslope));
+        }
         const size_t firstBrake = size_t(mu - p_.upslopeBrakes);
         chain(atoms, [&](size_t k) { return k >= firstBrake ? fbond::UpslopeBrake : fbond::Upslope; });
         f.anchors.push_back({atoms.back(), "upslope_" + std::to_string(i), "upslope_" + std::to_string(i)});

@@ -79,6 +79,12 @@ struct FenceParams {
     double upslopeDistance = 10.0;   // upslope anchors behind the posts (+y), m; none
     double upslopeHeight = 0.0;      // height of the upslope anchors above the post bases, m; none: flat ground
     int upslopeBrakes = 1;           // brake bonds per upslope rope (next to its anchor)
+    // Installed sag of the upslope ropes at mid-chord, a fraction of the chord (a parabola in the
+    // vertical plane of the chord, lying on the ground where it would go under it); none: a
+    // design choice (doc/fence.md, "Why a hinged post stands"). A rope built straight pulls its
+    // head upslope with H = w L^2 / (8 f) until the head has come close enough to give it a sag
+    // f: more than the lean of a hinged post holds.
+    double upslopeSag = 0.1;
     int postElements = 5;            // beam elements per post; numerical
     double postTilt = 10.0;          // degrees: posts and net lean downslope (-y) about the base line; none
     // A point of the vertical fence (posts, net, support ropes) leaned by postTilt about the x axis
@@ -111,7 +117,7 @@ struct FenceParams {
     long bottomLegBonds() const;
     double topLegLength() const;      // anchor to the node half a span bond before the end post head
     double bottomLegLength() const;
-    double upslopeLength() const;
+    double upslopeLength() const;     // the chord, head to anchor
     long upslopeBonds() const;
     double ropeMass(double diameter) const;  // kg/m: fill x density x pi d^2 / 4
 

@@ -36,7 +36,7 @@ Json layoutJson(const FenceParams& p, const FenceModel& f) {
     j.set("shackle_gap", p.shackleGap).set("post_gap", p.sideGap()).set("panel_nodes", f.panelNodes)
         .set("panel_bonds", f.panelBonds);
     j.set("anchor_distance", p.anchorDistance).set("bottom_anchor_distance", p.bottomAnchorDistance);
-    j.set("upslope_distance", p.upslopeDistance).set("upslope_height", p.upslopeHeight).set("post_tilt_deg", p.postTilt);
+    j.set("upslope_distance", p.upslopeDistance).set("upslope_height", p.upslopeHeight).set("upslope_sag", p.upslopeSag).set("post_tilt_deg", p.postTilt);
     j.set("coordinates", "x along the fence (centred on the fence), y upslope: the block comes from +y and "
           "travels towards -y, z up; post bases at z = 0, heads at z = height; the net in the plane y = 0; "
           "a panel's (x, y, z) is (x_c + x, z, height/2 + y) here; with post_tilt_deg > 0 all of it but the upslope ropes "

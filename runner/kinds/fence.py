@@ -95,6 +95,7 @@ FENCE_OPTIONS = (("fence.support_rope_d", "--support-rope-diameter"),
                  ("fence.anchor_distance", "--anchor-distance"),
                  ("fence.bottom_anchor_distance", "--bottom-anchor-distance"),
                  ("fence.upslope_distance", "--upslope-distance"),
+                 ("fence.upslope_sag", "--upslope-sag"),
                  ("fence.brakes", "--brakes"), ("fence.upslope_brakes", "--upslope-brakes"),
                  ("fence.post_area", "--post-area"), ("fence.post_iy", "--post-iy"),
                  ("fence.post_iz", "--post-iz"), ("fence.post_j", "--post-j"),
@@ -138,8 +139,8 @@ KEYS = (
            var="impact_end"),
     _fence("settle_time", "number", 3.0, "s", "settling under gravity before the block is "
            "released, at most: it ends once the fence is still (kinetic energy below "
-           f"{SETTLE_KE:g} J, the residual height's probe within {REST_STILL * 1e3:g} mm over "
-           f"{REST_WINDOW:g} s, the supports and the ground carrying its weight to "
+           f"{SETTLE_KE:g} J, the residual height's probe and the post heads' mean y each within "
+           f"{REST_STILL * 1e3:g} mm over {REST_WINDOW:g} s, the supports and the ground carrying its weight to "
            f"{SETTLE_CARRY:.0%}); a fence not still by then is not-settled. The default compound "
            "fence is still after 1.9 s, the quick one after 1.7 s", "doc/fence.md (\"Settling\")",
            low=0.0, low_open=True, high=20.0, quick=2.5),
@@ -204,16 +205,28 @@ KEYS = (
     _fence("support_rope_d", "number", 0.022, "m", "diameter of the top and bottom support "
            "ropes", "unverified: 22 mm ropes of 500 kJ kits (manufacturers' kit sheets, not "
            "read)", low=0.004, high=0.1),
-    _fence("upslope_rope_d", "number", 0.022, "m", "diameter of the upslope ropes",
-           "unverified: as fence.support_rope_d", low=0.004, high=0.1),
+    _fence("upslope_rope_d", "number", 0.022, "m", "diameter of the upslope ropes (quick: "
+           "12 mm, scaled with its 2 m posts: a hinged post stands only while its lean outweighs "
+           "the pull of its upslope rope's sag, which grows with the rope's weight, and 22 mm "
+           "ropes pull the quick fence's posts over)", "unverified: as fence.support_rope_d; "
+           "quick: doc/fence.md (\"Why a hinged post stands\")", low=0.004, high=0.1, quick=0.012),
     _fence("anchor_distance", "number", 5.0, "m", "the top rope's lateral anchors beyond the "
            "end posts, on the ground", "none: a design choice of this test fence", low=0.5,
            high=50.0),
     _fence("bottom_anchor_distance", "number", 2.5, "m", "the bottom rope's lateral anchors "
            "beyond the end posts", "none: a design choice of this test fence", low=0.5,
            high=50.0),
-    _fence("upslope_distance", "number", 10.0, "m", "upslope anchors behind the posts",
-           "none: a design choice of this test fence", low=1.0, high=50.0),
+    _fence("upslope_distance", "number", 10.0, "m", "upslope anchors behind the posts (quick: "
+           "4 m, twice its post height as 10 m is twice the full fence's)", "none: a design "
+           "choice of this test fence; quick: doc/fence.md (\"Why a hinged post stands\")",
+           low=1.0, high=50.0, quick=4.0),
+    _fence("upslope_sag", "number", 0.1, "", "installed sag of the upslope ropes at mid-chord, "
+           "a fraction of the chord (0: built straight). A hinged post stands while the lean of "
+           "its vertical loads outweighs its upslope rope's pull, w L^2 / (8 f) for a sag f: a "
+           "rope built straight pulls the head upslope until it has come close enough to give "
+           "the rope its sag, and the posts of both 22 mm fences then lean over upslope",
+           "none: a design choice; doc/fence.md (\"Why a hinged post stands\")", low=0.0,
+           high=0.5),
     _fence("brakes", "integer", 1, "", "brakes in each support rope next to each lateral "
            "anchor (0: none)", "none: a design choice of this test fence", low=0, high=10),
     _fence("upslope_brakes", "integer", 1, "", "brakes in each upslope rope next to its anchor "
@@ -685,6 +698,10 @@ class Fence(CaseKind):
                 fail("fence.impact_point", f"{case['fence.impact_point']}: {abs(value):g} m "
                                            f"{where} leaves the middle module ({half:g} m each "
                                            "side: fence.spacing / 2, fence.height / 2)")
+        rows = 2 * case["fence.row_time"]
+        if case["fence.duration"] < rows:
+            fail("fence.duration", f"{case['fence.duration']:g} s: shorter than two rows of "
+                                   f"fence.csv ({rows:g} s: 2 x fence.row_time)")
         if not case["fence.settle_kinetic"] and case["fence.settle_local"] == 0:
             fail("fence.settle_local", "0 with fence.settle_kinetic false: nothing would bring "
                                        "the settling fence to rest")

@@ -10,15 +10,16 @@ files of inputs/cases/ to the report. Checked:
 - the fence's left and right anchors of each rope carry mirror-equal peaks (the impact is on
   the centre line);
 - the report holds the fence table and the compound-vs-square verdict, with both figures;
-- the compound fences settle (still, their weight carried to 1 %); the square ones do not: their
-  posts lean over upslope under settling that applies no force (doc/fence.md, "Limits"), and
-  they end not-settled, the study with exit 3.
+- every fence settles (still, its weight carried to 1 %), and the square fence's hinged posts
+  lean into their hanging upslope ropes by the slack those were installed with (doc/fence.md,
+  "Why a hinged post stands"; with ropes built straight the posts fell over upslope).
 """
 
 import json
 import math
 import os
 import pathlib
+import re
 import subprocess
 
 import numpy as np
@@ -37,15 +38,8 @@ def study(tmp_path_factory):
     env = dict(os.environ, WIRENET_SETUP="skip", WIRENET_BUILD=str(lmp.BUILD))
     p = subprocess.run([str(DRIVER), "run", "fence", "--quick", "--out", str(out)],
                        capture_output=True, text=True, env=env, timeout=3600)
-    # exit 3: every case ran, some are unsound (the square fences are not settled)
-    assert p.returncode == 3, p.stderr[-2000:] + p.stdout[-2000:]
-    for name in UNSETTLED:
-        assert f"wirenet run: {name}: not-settled:" in p.stderr, p.stderr[-2000:]
+    assert p.returncode == 0, p.stderr[-2000:] + p.stdout[-2000:]
     return out
-
-
-# the quick square fences do not stand still within fence.settle_time (doc/fence.md, "Limits")
-UNSETTLED = ("fence_square", "fence_square_local")
 
 
 def case_json(study, name):
@@ -55,8 +49,7 @@ def case_json(study, name):
 @pytest.mark.parametrize("name", ["fence_compound", "fence_square"])
 def test_budget_and_momentum_close(study, name):
     m = case_json(study, name)
-    assert m["status"] == ("not-settled" if name in UNSETTLED else "ok")
-    assert m["kind"] == "fence" and m["mode"] == "quick"
+    assert m["status"] == "ok" and m["kind"] == "fence" and m["mode"] == "quick"
     assert m["energy"]["closure_error"] < 1e-3
     assert m["momentum"]["error"] < 1e-3
     assert m["energy"]["initial_energy"] == pytest.approx(m["block"]["energy"], rel=0.05)
@@ -88,13 +81,42 @@ def test_the_settled_state_is_recorded(study):
         assert s["weight_carried"] == pytest.approx((s["reactions"][2] + s["ground"]) /
                                                     s["weight"], rel=1e-12)
         assert s["ground"] > 0.0, name
-        if name in UNSETTLED:
-            assert s["still"] is False and m["status"] == "not-settled", name
-            assert f"carried {s['weight_carried']:.1%} of its weight" in m["verdict"], name
-            continue
         assert s["still"] is True and abs(1.0 - s["weight_carried"]) < fence.SETTLE_CARRY, name
         assert s["kinetic_energy"] < fence.SETTLE_KE and m["status"] == "ok", name
     assert "weight on the supports, settled" in (study / "report.md").read_text()
+
+
+def test_the_hinged_posts_lean_into_their_hanging_ropes(study):
+    """The square fence's posts are hinged at their bases and leaned downslope; every rope on a
+    head pulls it upslope or acts through the ground line, so the lean of the vertical loads
+    holds a post only against its upslope rope (doc/fence.md, "Why a hinged post stands"). The
+    rope is built hanging with a sag f0 = fence.upslope_sag x its chord L, and pulls
+    H = w L^2 / (8 f) at a sag f: 34 N at f0 on the quick fence (12 mm, w = 5.7 N/m, L = 4.77 m),
+    a small part of what the posts' lean (a few hundred N m over a lever arm of 1.65 m) asks.
+    So the posts lean further downslope, into their ropes, until those have taken up most of
+    their installed slack 8 f0^2 / (3 L) (127 mm): the chord grows by 8 (f0^2 - f^2) / (3 L),
+    over 0.6 of the slack for any pull above 54 N (f < 0.63 f0), and never by all of it (the
+    rope would be straight, its pull unbounded). Measured: 98-99 mm, the heads 0.12 m further downslope. With
+    ropes built straight the posts fell over upslope instead."""
+    import meshio
+    name = "fence_square"
+    m = case_json(study, name)
+    frame = meshio.read(sorted((study / name / name).glob(f"{name}_*.vtu"))[0])
+    types = (study / name / "setup" / "fence.types.in").read_text()
+    head_type = int(re.search(r"variable\s+atom_post_head\s+index\s+(\d+)", types).group(1))
+    heads = frame.point_data["type"] == head_type
+    now, moved = frame.points[heads], frame.point_data["displacement"][heads]
+    built = now - moved
+    assert len(built) == m["fence"]["modules"] + 1 and np.all(now[:, 1] < built[:, 1])
+    gen = json.loads((study / name / "setup" / "fence.json").read_text())
+    anchors = {a["name"]: np.array(a["position"]) for a in gen["anchors"]}
+    sag = gen["fence"]["upslope_sag"]
+    for k, (head, d) in enumerate(zip(built[np.argsort(built[:, 0])], moved[np.argsort(built[:, 0])])):
+        chord = anchors[f"upslope_{k}"] - head
+        L = np.linalg.norm(chord)
+        slack = 8 * (sag * L) ** 2 / (3 * L)
+        grown = -np.dot(d, chord / L)                    # the chord's growth, head to anchor
+        assert 0.6 * slack < grown < slack, (k, grown, slack)
 
 
 def test_a_kept_settled_fence_keeps_its_facts(tmp_path):
@@ -160,13 +182,14 @@ def test_report_compares_the_nets(study):
     assert "## Fence cases (EAD 340059-00-0106)" in report
     assert "| fence_compound | compound |" in report and "| fence_square | square |" in report
     summary = json.loads((study / "summary.json").read_text())
-    # the claim compares sound cases only: not the square fences, which did not settle
-    assert summary["fence_comparison"] is None
-    assert "fence scale (compound vs square net, same fence and block): not evaluated (needs a " \
-           "compound and a square fence case, both ok," in report
+    comparison = summary["fence_comparison"]
+    assert comparison["compound"] == "fence_compound" and comparison["square"] == "fence_square"
+    m_c, m_s = case_json(study, "fence_compound"), case_json(study, "fence_square")
+    base = lambda m: max(v["peak"] for k, v in m["support_peaks"].items() if k.startswith("post_base"))
+    assert comparison["post_base_ratio"] == pytest.approx(base(m_c) / base(m_s), rel=1e-9)
+    assert comparison["verdict"] in report
     for name in ("fence_compound", "fence_square"):
-        # the report draws sound cases; every case keeps its files
-        assert (study / "figures" / f"fence_{name}.png").is_file() == (name not in UNSETTLED)
+        assert (study / "figures" / f"fence_{name}.png").is_file()
         assert (study / name / f"{name}.pvd").is_file()
         for csv in ("block", "energy", "components", "supports", "ropes", "brakes", "ruptures"):
             assert (study / name / f"{csv}.csv").is_file(), csv

@@ -337,8 +337,18 @@ def test_ropes_are_chains_of_rope_and_brake_bonds(fence):
         assert len(ids) == e["mu"] + 1 and all(f.type[k - 1] == 10 for k in ids[1:-1])
         types = [bonded.get((min(p, q), max(p, q))) for p, q in zip(ids, ids[1:])]
         assert types == [7] * (e["mu"] - e["ub"]) + [8] * e["ub"]
-        lengths = np.linalg.norm(np.diff(f.x[np.array(ids) - 1], axis=0), axis=1)
-        assert np.allclose(lengths, math.hypot(e["U"], e["H"] - e["zu"]) / e["mu"], rtol=1e-9)
+        # hanging with the installed sag below the chord: node j at s = j / mu lies on the
+        # parabola head + s (anchor - head) - 4 f s (1 - s) z, f = --upslope-sag x the chord
+        head, anchor = f.pos(ids[0]), f.pos(ids[-1])
+        s = np.arange(len(ids))[:, None] / e["mu"]
+        sag = f.o("upslope-sag", 0.1) * np.linalg.norm(anchor - head)
+        want = head + s * (anchor - head) - 4 * sag * s * (1 - s) * np.array([0.0, 0.0, 1.0])
+        # ... lying on the ground where the parabola would go under it (the deck's ground plane is
+        # the support rope's radius below z = 0: a thicker upslope rope lies higher)
+        ground = max(0.0, (f.o("upslope-rope-diameter", 0.022) - e["rope_d"]) / 2)
+        want[1:-1, 2] = np.maximum(want[1:-1, 2], ground)
+        assert np.allclose(f.x[np.array(ids) - 1], want, atol=1e-9)
+        assert f.meta["fence"]["upslope_sag"] == f.o("upslope-sag", 0.1)
     # every rope/brake/upslope/post bond is one of these chains
     chains = set()
     for ids in list(f.ropes.values()) + ups:
@@ -534,6 +544,8 @@ BAD = [
     (["--head-guides", "glue"], "--head-guides must be slide or clamp (got glue)"),
     (["--post-tilt", "-1"], "--post-tilt must be >= 0 and < 45 degrees (got -1)"),
     (["--post-tilt", "nan"], "--post-tilt must be a number (got nan)"),
+    (["--upslope-sag", "-0.1"], "--upslope-sag must be >= 0 (got -0.1)"),
+    (["--upslope-sag", "0.6"], "--upslope-sag must be <= 0.5 (got 0.6)"),
 ]
 
 
@@ -555,7 +567,7 @@ SMALL = ["--modules", "2", "--spacing", "4", "--height", "2", "--net", "hex",
 def test_post_tilt_leans_posts_net_and_support_ropes_about_the_ground_line(tmp_path):
     """--post-tilt t turns every part but the upslope ropes about the x axis at the ground:
     (y, z) -> (y cos t - z sin t, y sin t + z cos t); the anchors on the ground stay, each
-    upslope rope runs straight from its leaned head to its anchor."""
+    upslope rope runs from its leaned head to its anchor (with --upslope-sag 0: straight)."""
     gen(tmp_path, "fence", *SMALL, *UPRIGHT, "--out", "v")
     gen(tmp_path, "fence", *SMALL, "--post-tilt", "12", "--head-guides", "slide", "--out", "t")
     _, _, upright, _ = read_data(tmp_path / "v.data")

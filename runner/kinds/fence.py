@@ -486,7 +486,6 @@ class Setup:
                     relax_steps=self.relax_steps, settle_every=self.settle_every,
                     settle_mass=self.settle_mass, settle_ke=repr(SETTLE_KE),
                     settle_carry=repr(SETTLE_CARRY),
-                    alpha_relax=dissipation.SETTLE_ALPHA,
                     **rest_probe(self.meta, self.dt_settle, self.settle_every, "settle_window"))
 
     def settled_key(self):
@@ -508,7 +507,9 @@ class Setup:
     def variables(self):
         tx, ty, tz = self.aim
         nx, ny, nz = self.meta["normal"]
+        # alpha_relax: the rest's local damping (include/fence_rest.in), not the settling's
         v = dict(self.settle_variables(), **self.block.inertia_variables(), dt=repr(self.dt),
+                 alpha_relax=dissipation.SETTLE_ALPHA,
                  steps=self.steps, every=self.every,
                  dump_every=self.every, frame_every=self.frame_every,
                  target_x=repr(tx), target_y=repr(ty), target_z=repr(tz), normal_x=repr(nx),

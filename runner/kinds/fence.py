@@ -141,8 +141,9 @@ KEYS = (
            "released, at most: it ends once the fence is still (kinetic energy below "
            f"{SETTLE_KE:g} J, the residual height's probe and the post heads' mean y each within "
            f"{REST_STILL * 1e3:g} mm over {REST_WINDOW:g} s, the supports and the ground carrying its weight to "
-           f"{SETTLE_CARRY:.0%}); a fence not still by then is not-settled. The default compound "
-           "fence is still after 1.9 s, the quick one after 1.7 s", "doc/fence.md (\"Settling\")",
+           f"{SETTLE_CARRY:.0%}); a fence not still by then is not-settled. The full square "
+           "fence is still after 1.7 s, the quick compound one after 1.3 s; the default compound "
+           "fence is not still within 3 s (doc/fence.md, \"Limits\")", "doc/fence.md (\"Settling\")",
            low=0.0, low_open=True, high=20.0, quick=2.5),
     _fence("rest_time", "number", 1.0, "s", "after each impact, the block and the fence come "
            "to rest with local damping 0.7 and a viscous part (the guideline measures the "

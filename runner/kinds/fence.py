@@ -60,6 +60,7 @@ REST_KE = 1e-5           # the rest ends below this fraction of the block's ener
 SETTLE_KE = 1.0          # J
 SETTLE_CARRY = 0.01      # 1 % of the weight: the sum of the reactions, read as window means
 SETTLE_STILL = "fence settle: still"   # the deck's line when the settling ended on its tests
+SETTLE_NOT_STILL = "fence settle: not still:"   # ... and when it did not: the last window's tests
 # The settling runs in pieces of SETTLE_PIECE, each a LIGGGHTS `run` followed by the deck's
 # stillness test: about 80 ms of set-up per piece on the default fence (40 s in pieces of one
 # output row, 2 ms), 8 s in pieces of 10 ms
@@ -343,6 +344,36 @@ def read_settled(line):
         raise RunError(f"the deck's settling line is not what the runner reads: {line.strip()}")
     return {"reactions": [rx, ry, rz], "ground": ground, "weight": weight, "kinetic_energy": ke,
             "weight_carried": (rz + ground) / weight if weight > 0 else None}
+
+
+NOT_STILL_LINE = re.compile(
+    rf"^{SETTLE_NOT_STILL} kinetic energy {_NUMBER} J \(limit {_NUMBER}\), the probe moved "
+    rf"{_NUMBER} m and the post heads {_NUMBER} m \(limit {_NUMBER}\), the weight carried to "
+    rf"{_NUMBER} \(limit {_NUMBER}\) over the last {_NUMBER} steps of {_NUMBER} s")
+
+
+def read_not_still(line):
+    """The deck's line when the settling ran out of time (SETTLE_NOT_STILL, inputs/fence.in):
+    the stillness tests of the last window it judged, each beside its limit."""
+    found = NOT_STILL_LINE.match(line)
+    try:
+        ke, ke_max, probe, heads, still, carry, carry_max, steps, dt = (float(v) for v in found.groups())
+    except (AttributeError, ValueError):
+        raise RunError(f"the deck's settling line is not what the runner reads: {line.strip()}")
+    return {"window": steps * dt, "kinetic_energy": [ke, ke_max], "probe_moved": [probe, still],
+            "heads_moved": [heads, still], "weight_missed": [carry, carry_max]}
+
+
+def failed_stillness(window):
+    """What kept the fence from being still, in words: the tests of read_not_still's window that
+    failed (a limit of 0 is a test switched off)."""
+    words = {"kinetic_energy": ("its kinetic energy was {:.3g} J (limit {:g} J)"),
+             "probe_moved": "the residual height's probe moved {:.3g} m (limit {:g} m)",
+             "heads_moved": "the post heads' mean y moved {:.3g} m (limit {:g} m)",
+             "weight_missed": "the supports and the ground missed {:.2%} of its weight (limit {:.0%})"}
+    failed = [text.format(*window[key]) for key, text in words.items()
+              if window[key][1] > 0 and not window[key][0] < window[key][1]]
+    return "; ".join(failed) or "no test failed in the last window (it was too short)"
 
 
 def middle_module(meta):
@@ -715,12 +746,14 @@ class Fence(CaseKind):
                                        "and fence.duration")
         settled = facts.get("settled") or {}
         if settled.get("still") is False:
+            window = settled.get("last_window")
+            why = (f"in its last {window['window']:.3g} s: {failed_stillness(window)}" if window
+                   else f"its supports and the ground carried {settled['weight_carried']:.1%} of "
+                        f"its weight (kinetic energy {settled['kinetic_energy']:.3g} J)")
             return (record.NOT_SETTLED,
-                    f"the fence was not at rest when the block was released: after "
-                    f"fence.settle_time ({facts['settle_time']:g} s) its supports and the ground "
-                    f"carried {settled['weight_carried']:.1%} of its weight (kinetic energy "
-                    f"{settled['kinetic_energy']:.3g} J); lengthen fence.settle_time, or see "
-                    "doc/fence.md (\"Limits\") if it does not stand at all")
+                    f"the fence was not still when the block was released: after "
+                    f"fence.settle_time ({facts['settle_time']:g} s), {why}; lengthen "
+                    "fence.settle_time, or see doc/fence.md (\"Limits\") if it does not stand at all")
         return self.budget_verdict(facts)
 
     def run(self, index, ctx):
@@ -748,6 +781,9 @@ class Fence(CaseKind):
             settled = read_settled(line) if line else None
             if settled is not None:
                 settled["still"] = engine.log_line(workdir, SETTLE_STILL) is not None
+                late = engine.log_line(workdir, SETTLE_NOT_STILL)
+                if late:
+                    settled["last_window"] = read_not_still(late)
             if not os.path.isfile(cached):
                 keep_settled(os.path.join(workdir, "settled.restart"), cached, settled)
         facts = self.write_outputs(setup, ctx.case_dir, workdir, read_table(workdir))

@@ -161,6 +161,50 @@ def test_a_fence_that_did_not_settle_is_not_ok():
     assert kind.verdict(facts)[0] == record.BUDGET_OPEN
 
 
+def test_a_not_settled_verdict_names_the_test_that_failed():
+    """The deck's line at a settling that ran out of time carries each stillness test of its
+    last window beside its limit; the verdict names those that failed, and only those."""
+    from postprocess import record
+    from runner import api, kinds
+    line = ("fence settle: not still: kinetic energy 20.7 J (limit 1), the probe moved 0.0004 m "
+            "and the post heads 0.012 m (limit 0.001), the weight carried to 0.003 (limit 0.01) "
+            "over the last 8290 steps of 1.206e-05 s")
+    window = fence.read_not_still(line)
+    assert window["window"] == pytest.approx(0.1, rel=1e-3)
+    assert window["heads_moved"] == [0.012, 0.001] and window["weight_missed"] == [0.003, 0.01]
+    kind = kinds.of(api.load('kind = "fence"\n'))
+    facts = dict(braking_distance=1.0, settle_time=3.0, energy={"closure_error": 0.0},
+                 momentum={"error": 0.0}, settled=dict(weight_carried=0.997, kinetic_energy=0.2,
+                                                       still=False, last_window=window))
+    status, why = kind.verdict(facts)
+    assert status == record.NOT_SETTLED and "fence.settle_time (3 s)" in why
+    assert "kinetic energy was 20.7 J (limit 1 J)" in why and "post heads' mean y moved 0.012 m" in why
+    assert "probe" not in why and "weight" not in why, why
+    with pytest.raises(RunError, match="not still: kinetic energy 1 J"):
+        fence.read_not_still("fence settle: not still: kinetic energy 1 J")
+
+
+def test_a_fence_given_too_little_time_to_settle_says_which_test_failed(tmp_path):
+    """A one-module quick fence given 0.15 s to settle (one window of 0.1 s judged, its nets
+    still falling onto their ropes) ends not-settled with exit 3, and its verdict names what
+    was still moving (the deck's line at the settling's end, read by its words)."""
+    out = tmp_path / "out"
+    env = dict(os.environ, WIRENET_SETUP="skip", WIRENET_BUILD=str(lmp.BUILD))
+    p = subprocess.run([str(DRIVER), "run", "fence_square", "--quick", "--np", "1", "--set",
+                        "fence.modules=1", "--set", "fence.duration=0.02", "--set",
+                        "fence.settle_time=0.15", "--set", "fence.rest_time=0", "--out", str(out)],
+                       capture_output=True, text=True, env=env, timeout=900)
+    assert p.returncode == 3, p.stderr[-2000:]
+    m = json.loads((out / "fence_square" / "case.json").read_text())
+    assert m["status"] == "not-settled", m["status"]
+    window = m["settled"]["last_window"]
+    assert window["window"] == pytest.approx(0.1, rel=0.05)
+    assert "in its last 0.1 s: " in m["verdict"] and "(limit" in m["verdict"], m["verdict"]
+    # the named tests are those over their limits in the recorded window
+    assert window["kinetic_energy"][0] >= 1.0 or window["heads_moved"][0] >= 1e-3 \
+        or window["probe_moved"][0] >= 1e-3 or window["weight_missed"][0] >= 0.01
+
+
 def test_supports_are_named_and_peaks_match(study):
     case = study / "fence_compound"
     m = case_json(study, "fence_compound")

@@ -51,7 +51,9 @@ FENCE_NOTE = (
     "vertical reactions of anchors, post bases and ground at the settling's end over the fence's "
     "weight (within 1 % of 100 % when the settling ended at rest; a fence whose settling ran out "
     "of fence.settle_time first is not-settled and released out of equilibrium: doc/fence.md, "
-    "\"Settling\"); "
+    "\"Settling\"); at rest = the same at the rest's end over the weight of the fence and of "
+    "the block if it touches the fence (what it misses, the rest's damping holds: a fence still creeping when its residual height "
+    "is read); "
     "peaks are window means of the reactions (fence.row_time). Closure and momentum as for the "
     "impact cases.")
 
@@ -617,7 +619,8 @@ def markdown(directory, summaries, verdicts, missing, figures, dissipation=(), e
         lines += _table(["case", "net", "block energy [kJ]", "block stopped", "braking distance [m]",
                          "residual height", "final block speed [m/s]", "peak anchor [kN]",
                          "peak post base [kN]", "brake elongation [m]", "energy closure [-]",
-                         "momentum error [-]", "broken bonds", "weight on the supports, settled"],
+                         "momentum error [-]", "broken bonds", "weight on the supports, settled",
+                         "at rest"],
                         [[n, f["net"], fmt(f["block_energy"] / 1e3 if f["block_energy"] else None),
                           {True: "yes", False: "no"}.get(f["block_stopped"], "n/a"),
                           fmt(f["braking_distance"]), _percent(f["residual_height_ratio"]) +
@@ -629,7 +632,8 @@ def markdown(directory, summaries, verdicts, missing, figures, dissipation=(), e
                           f"({f['post_base']})",
                           fmt(f["brake_elongation_peak"]), fmt(f["closure_error"]),
                           fmt(f["momentum_error"]), fmt(f["broken_bonds"]),
-                          _percent(f.get("weight_carried"))]
+                          _percent(f.get("weight_carried")),
+                          _percent(f.get("weight_carried_rest"))]
                          for n, f in _fence_rows(fences)])
         comparison = fence_comparison(summaries)
         lines += ["", "The paper's post-load claim at fence scale (compound vs square net, same "

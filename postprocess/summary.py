@@ -130,6 +130,7 @@ def fence_summary(meta):
             "momentum_error": (meta.get("momentum") or {}).get("error"),
             "broken_bonds": meta.get("broken_bonds"),
             "weight_carried": (meta.get("settled") or {}).get("weight_carried"),
+            "weight_carried_rest": (meta.get("rest") or {}).get("weight_carried"),
             "energy_final": energy.get("final"), "initial_energy": energy.get("initial_energy"),
             "mechanisms": energy.get("mechanisms"), "dissipation": meta.get("dissipation"),
             "components": energy.get("components")}

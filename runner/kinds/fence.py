@@ -678,20 +678,30 @@ def read_rest(workdir):
     rows = read_csv(os.path.join(workdir, "rest.csv"), required=("time", "ke", "gap"))
     if not len(rows["time"]):
         raise PostprocessError(f"{workdir}/rest.csv: no rows")
+    carry = read_csv(os.path.join(workdir, "rest_carry.csv"),
+                     required=("rz", "ground", "fence_weight", "block_weight"))
+    if not len(carry["rz"]):
+        raise PostprocessError(f"{workdir}/rest_carry.csv: no rows")
+    weight = float(carry["fence_weight"][-1]) + float(carry["block_weight"][-1])
     return dict(nodes=netoutputs.last_nodes(dump), time=float(rows["time"][-1]), ke=float(rows["ke"][-1]),
-                times=rows["time"], gaps=rows["gap"])
+                times=rows["time"], gaps=rows["gap"],
+                carried=(float(carry["rz"][-1]) + float(carry["ground"][-1])) / weight,
+                block_in_fence=bool(carry["block_weight"][-1] > 0))
 
 
 def rest_facts(rest, impact_end, setup):
     """case.json's rest: how long it took after the impact's last row, the kinetic energy at
-    its end against the limit, and how far the probe of the residual height moved over its
-    last REST_WINDOW (still: less than REST_STILL, as the deck ends the rest on)."""
+    its end against the limit, how far the probe of the residual height moved over its last
+    REST_WINDOW (still: less than REST_STILL, as the deck ends the rest on), and the share of
+    the weight (the fence's, and the block's if it touches the fence: block_in_fence) the
+    supports and the ground carried at its end: the rest's damping holds the rest."""
     last = rest["times"] >= rest["times"][-1] - REST_WINDOW * (1 - 1e-9)
     moved = float(np.ptp(rest["gaps"][last]))
     full = rest["times"][-1] - impact_end >= REST_WINDOW * (1 - 1e-3)
     return dict(time=rest["time"] - impact_end, kinetic_energy=rest["ke"],
                 limit=REST_KE * setup.energy, reached=bool(rest["ke"] < REST_KE * setup.energy),
-                probe_moved=moved, still=bool(full and moved < REST_STILL))
+                probe_moved=moved, still=bool(full and moved < REST_STILL),
+                weight_carried=rest["carried"], block_in_fence=rest["block_in_fence"])
 
 
 # ---------------------------------------------------------------------------------------------

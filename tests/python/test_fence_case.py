@@ -86,6 +86,25 @@ def test_the_settled_state_is_recorded(study):
     assert "weight on the supports, settled" in (study / "report.md").read_text()
 
 
+def test_the_weight_carried_at_rest_is_recorded(study):
+    """case.json's rest.weight_carried: the supports' and the ground's vertical reactions at
+    the rest's end (the deck's rest_carry.csv, by its column names) over the weight of the
+    fence and of the block if it touches the fence (block_in_fence); what they miss the rest's
+    damping holds."""
+    for name in ("fence_compound", "fence_square"):
+        m = case_json(study, name)
+        carry = np.genfromtxt(study / name / "run" / "rest_carry.csv", delimiter=",", names=True)
+        assert float(carry["fence_weight"]) == pytest.approx(m["fence_mass"] * m["gravity"], rel=1e-9)
+        block = m["block"]["mass"] * m["gravity"] if m["rest"]["block_in_fence"] else 0.0
+        assert float(carry["block_weight"]) == pytest.approx(block, rel=1e-9), name
+        assert m["rest"]["weight_carried"] == pytest.approx(
+            (float(carry["rz"]) + float(carry["ground"])) / (float(carry["fence_weight"]) + block),
+            rel=1e-12)
+        # a short quick rest: the net still swings, but the supports carry most of the weight
+        assert 0.8 < m["rest"]["weight_carried"] < 1.2, (name, m["rest"])
+    assert "at rest" in (study / "report.md").read_text()
+
+
 def test_the_hinged_posts_lean_into_their_hanging_ropes(study):
     """The square fence's posts are hinged at their bases and leaned downslope; every rope on a
     head pulls it upslope or acts through the ground line, so the lean of the vertical loads

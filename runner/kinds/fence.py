@@ -357,17 +357,18 @@ def read_not_still(line):
     the stillness tests of the last window it judged, each beside its limit."""
     found = NOT_STILL_LINE.match(line)
     try:
-        ke, ke_max, probe, heads, still, carry, carry_max, steps, dt = (float(v) for v in found.groups())
+        ke, ke_max, probe, heads, moved_max, carry, carry_max, steps, dt = \
+            (float(v) for v in found.groups())
     except (AttributeError, ValueError):
         raise RunError(f"the deck's settling line is not what the runner reads: {line.strip()}")
-    return {"window": steps * dt, "kinetic_energy": [ke, ke_max], "probe_moved": [probe, still],
-            "heads_moved": [heads, still], "weight_missed": [carry, carry_max]}
+    return {"window": steps * dt, "kinetic_energy": [ke, ke_max], "probe_moved": [probe, moved_max],
+            "heads_moved": [heads, moved_max], "weight_missed": [carry, carry_max]}
 
 
 def failed_stillness(window):
     """What kept the fence from being still, in words: the tests of read_not_still's window that
     failed (a limit of 0 is a test switched off)."""
-    words = {"kinetic_energy": ("its kinetic energy was {:.3g} J (limit {:g} J)"),
+    words = {"kinetic_energy": "its kinetic energy was {:.3g} J (limit {:g} J)",
              "probe_moved": "the residual height's probe moved {:.3g} m (limit {:g} m)",
              "heads_moved": "the post heads' mean y moved {:.3g} m (limit {:g} m)",
              "weight_missed": "the supports and the ground missed {:.2%} of its weight (limit {:.0%})"}

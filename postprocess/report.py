@@ -52,8 +52,8 @@ FENCE_NOTE = (
     "weight (within 1 % of 100 % when the settling ended at rest; a fence whose settling ran out "
     "of fence.settle_time first is not-settled and released out of equilibrium: doc/fence.md, "
     "\"Settling\"); at rest = the same at the rest's end over the weight of the fence and of "
-    "the block if it touches the fence (what it misses, the rest's damping holds: a fence still creeping when its residual height "
-    "is read); "
+    "the block if it touches the fence (what it misses, the rest's damping holds: a fence "
+    "still creeping when its residual height is read); "
     "peaks are window means of the reactions (fence.row_time). Closure and momentum as for the "
     "impact cases.")
 

@@ -180,6 +180,20 @@ def test_a_fence_that_did_not_settle_is_not_ok():
     assert kind.verdict(facts)[0] == record.BUDGET_OPEN
 
 
+def test_a_rest_without_its_weight_record_is_refused_by_name(tmp_path):
+    """A rest whose run/rest_carry.csv is missing or has no row (a deck that stopped at the
+    rest's end) is refused in one line naming the file, not read as carrying nothing."""
+    from postprocess.errors import PostprocessError
+    (tmp_path / "rest.dump").write_text("")
+    (tmp_path / "rest.csv").write_text("time,ke,gap\n0.1,1.0,2.0\n")
+    (tmp_path / "rest_carry.csv").write_text("rz,ground,fence_weight,block_weight\n")
+    with pytest.raises(PostprocessError, match="rest_carry.csv"):
+        fence.read_rest(str(tmp_path))
+    (tmp_path / "rest_carry.csv").unlink()
+    with pytest.raises((PostprocessError, RunError), match="rest_carry.csv"):
+        fence.read_rest(str(tmp_path))
+
+
 def test_a_not_settled_verdict_names_the_test_that_failed():
     """The deck's line at a settling that ran out of time carries each stillness test of its
     last window beside its limit; the verdict names those that failed, and only those."""

@@ -326,6 +326,22 @@ def keep_settled(restart, cached, settled):
         shutil.copyfile(restart, tmp)
 
 
+def settled_path(study_dir, setup, still):
+    """Where a settled fence is kept: a still one under the key without the settling's cap, any
+    other under the key with it."""
+    return os.path.join(study_dir, SETTLED_DIR, setup.settled_key(capped=not still),
+                        "settled.restart")
+
+
+def find_settled(study_dir, setup):
+    """The kept settled fence a case can start from (a still one first), or None."""
+    for still in (True, False):
+        path = settled_path(study_dir, setup, still)
+        if os.path.isfile(path):
+            return path
+    return None
+
+
 def settled_facts_path(cached):
     return os.path.join(os.path.dirname(cached), "settled.json")
 
@@ -525,9 +541,11 @@ class Setup:
                     settle_carry=repr(SETTLE_CARRY),
                     **rest_probe(self.meta, self.dt_settle, self.settle_every, "settle_window"))
 
-    def settled_key(self):
+    def settled_key(self, capped=False):
         """sha256 of everything the settled fence depends on: the generated files, the deck and
-        its includes, the settling's variables and the LIGGGHTS binary."""
+        its includes, the settling's variables and the LIGGGHTS binary. A fence that became
+        still is the same whatever fence.settle_time allowed it (the deck stops at stillness):
+        its key leaves the cap (relax_steps) out; one that did not is kept under ``capped``."""
         h = hashlib.sha256()
         # the generated files name their own folder: the key must not
         prefix = os.path.abspath(os.path.join(self.workdir, "fence")).encode()
@@ -537,7 +555,8 @@ class Setup:
             with open(path, "rb") as fh:
                 h.update(fh.read().replace(prefix, b"PREFIX"))
         variables = {k: v for k, v in self.settle_variables().items()
-                     if k not in ("data", "types", "shackles", "out", "inc") + IMPACT_ONLY}
+                     if k not in ("data", "types", "shackles", "out", "inc") + IMPACT_ONLY
+                     and (capped or k != "relax_steps")}
         h.update(json.dumps(variables, sort_keys=True).encode())
         return h.hexdigest()[:20]
 
@@ -778,9 +797,9 @@ class Fence(CaseKind):
         workdir = os.path.join(ctx.case_dir, "run")
         start = time.time()
         # a fence settled before with everything the same is taken as it was left
-        cached = os.path.join(ctx.study_dir, SETTLED_DIR, setup.settled_key(), "settled.restart")
+        cached = find_settled(ctx.study_dir, setup)
         variables = setup.variables()
-        if os.path.isfile(cached):
+        if cached:
             variables.update(from_settled=1, settled=cached)
         wall = engine.run(INPUTS / "fence.in", workdir, variables, np=ctx.ranks,
                           total_steps=setup.steps, label="fence", dt=setup.dt,
@@ -799,8 +818,9 @@ class Fence(CaseKind):
                 late = engine.log_line(workdir, SETTLE_NOT_STILL)
                 if late:
                     settled["last_window"] = read_not_still(late)
-            if not os.path.isfile(cached):
-                keep_settled(os.path.join(workdir, "settled.restart"), cached, settled)
+            kept = settled_path(ctx.study_dir, setup, bool(settled and settled["still"]))
+            if not os.path.isfile(kept):   # (a member beside this one may have kept it first)
+                keep_settled(os.path.join(workdir, "settled.restart"), kept, settled)
         facts = self.write_outputs(setup, ctx.case_dir, workdir, read_table(workdir))
         facts["settled_from"] = cached if variables.get("from_settled") else None
         facts["settled"] = settled

@@ -161,6 +161,31 @@ def test_a_kept_settled_fence_keeps_its_facts(tmp_path):
     assert bare.is_file() and not pathlib.Path(fence.settled_facts_path(str(bare))).exists()
 
 
+def test_a_still_fence_is_found_whatever_settle_time_allowed(tmp_path, monkeypatch):
+    """A fence that became still is the same whatever fence.settle_time capped its settling at
+    (the deck stops at stillness): its key leaves the cap out, so a case with another
+    settle_time starts from it; one kept not still is found only with its own cap, and a still
+    one is taken before it."""
+    for name in ("fence.data", "fence.shackles", "fence.types.in"):
+        (tmp_path / name).write_text(name)
+    setup = object.__new__(fence.Setup)
+    setup.workdir, setup.data_path = str(tmp_path), str(tmp_path / "fence.data")
+    setup.shackles, setup.types_path = str(tmp_path / "fence.shackles"), str(tmp_path / "fence.types.in")
+    cap = {"relax_steps": 287400}
+    monkeypatch.setattr(fence.Setup, "settle_variables", lambda self: dict(dt_settle="1e-5", **cap))
+    still, capped = fence.settled_path(tmp_path, setup, True), fence.settled_path(tmp_path, setup, False)
+    assert still != capped and fence.find_settled(tmp_path, setup) is None
+    restart = tmp_path / "settled.restart"
+    restart.write_bytes(b"restart")
+    fence.keep_settled(str(restart), capped, dict(still=False))
+    assert fence.find_settled(tmp_path, setup) == capped
+    cap["relax_steps"] = 383200      # another settle_time: the not-still state is not its own
+    assert fence.find_settled(tmp_path, setup) is None
+    fence.keep_settled(str(restart), fence.settled_path(tmp_path, setup, True), dict(still=True))
+    cap["relax_steps"] = 287400
+    assert fence.find_settled(tmp_path, setup) == still
+
+
 def test_a_fence_that_did_not_settle_is_not_ok():
     """A fence whose settling ran out of fence.settle_time before its tests held (`still` false:
     its supports and the ground did not carry its weight to 1 %) is not-settled, whatever its

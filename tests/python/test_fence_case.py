@@ -258,9 +258,12 @@ def test_a_fence_given_too_little_time_to_settle_says_which_test_failed(tmp_path
     window = m["settled"]["last_window"]
     assert window["window"] == pytest.approx(0.1, rel=0.05)
     assert "in its last 0.1 s: " in m["verdict"] and "(limit" in m["verdict"], m["verdict"]
-    # the named tests are those over their limits in the recorded window
-    assert window["kinetic_energy"][0] >= 1.0 or window["heads_moved"][0] >= 1e-3 \
-        or window["probe_moved"][0] >= 1e-3 or window["weight_missed"][0] >= 0.01
+    # the verdict names exactly the tests over their limits in the recorded window, at least one
+    tests = {key: pair for key, pair in window.items() if key != "window"}
+    over = [key for key, (value, limit) in tests.items() if limit > 0 and value >= limit]
+    assert over, window
+    assert fence.failed_stillness(window) in m["verdict"], m["verdict"]
+    assert m["verdict"].count("(limit") == len(over), (over, m["verdict"])
 
 
 def test_supports_are_named_and_peaks_match(study):

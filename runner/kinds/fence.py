@@ -326,20 +326,50 @@ def keep_settled(restart, cached, settled):
         shutil.copyfile(restart, tmp)
 
 
-def settled_path(study_dir, setup, still):
+def shared_settled_dir():
+    """Where still settled fences are kept for every study of this user (WIRENET_CACHE, default
+    $XDG_CACHE_HOME/wirenet or ~/.cache/wirenet; 'off': nowhere), or None."""
+    root = os.environ.get("WIRENET_CACHE", "")
+    if root == "off":
+        return None
+    if not root:
+        root = os.path.join(os.environ.get("XDG_CACHE_HOME") or
+                            os.path.join(os.path.expanduser("~"), ".cache"), "wirenet")
+    return os.path.join(os.path.abspath(root), "settled")
+
+
+def settled_path(study_dir, setup, still, shared=False):
     """Where a settled fence is kept: a still one under the key without the settling's cap, any
-    other under the key with it."""
-    return os.path.join(study_dir, SETTLED_DIR, setup.settled_key(capped=not still),
-                        "settled.restart")
+    other under the key with it; in the study's folder, or (``shared``) in the user's store."""
+    root = shared_settled_dir() if shared else os.path.join(study_dir, SETTLED_DIR)
+    return os.path.join(root, setup.settled_key(capped=not still), "settled.restart")
 
 
 def find_settled(study_dir, setup):
-    """The kept settled fence a case can start from (a still one first), or None."""
-    for still in (True, False):
-        path = settled_path(study_dir, setup, still)
+    """The kept settled fence a case can start from, or None: the study's own (a still one
+    first), then a still one of the user's store (the same key: the same files, decks, binary
+    and settling variables, whichever study settled it)."""
+    places = [(False, True), (False, False)] + ([(True, True)] if shared_settled_dir() else [])
+    for shared, still in places:
+        path = settled_path(study_dir, setup, still, shared)
         if os.path.isfile(path):
             return path
     return None
+
+
+def share_settled(cached, setup, settled):
+    """Copy a still settled fence of the study to the user's store (a cache: a failure to write
+    it is said and passed over)."""
+    if not shared_settled_dir() or not (settled and settled.get("still")):
+        return
+    target = settled_path(None, setup, True, shared=True)
+    if os.path.isfile(target):
+        return
+    try:
+        keep_settled(cached, target, settled)
+    except OSError as exc:
+        print(f"wirenet: note: the settled fence not kept in {os.path.dirname(target)} "
+              f"({exc.strerror or exc}); set WIRENET_CACHE to another folder or 'off'")
 
 
 def settled_facts_path(cached):
@@ -821,6 +851,7 @@ class Fence(CaseKind):
             kept = settled_path(ctx.study_dir, setup, bool(settled and settled["still"]))
             if not os.path.isfile(kept):   # (a member beside this one may have kept it first)
                 keep_settled(os.path.join(workdir, "settled.restart"), kept, settled)
+            share_settled(kept, setup, settled)
         facts = self.write_outputs(setup, ctx.case_dir, workdir, read_table(workdir))
         facts["settled_from"] = cached if variables.get("from_settled") else None
         facts["settled"] = settled

@@ -184,6 +184,39 @@ def test_a_still_fence_is_found_whatever_settle_time_allowed(tmp_path, monkeypat
     fence.keep_settled(str(restart), fence.settled_path(tmp_path, setup, True), dict(still=True))
     cap["relax_steps"] = 287400
     assert fence.find_settled(tmp_path, setup) == still
+    # another study finds only what the user's store (WIRENET_CACHE) holds: still states
+    other = tmp_path / "other"
+    monkeypatch.setenv("WIRENET_CACHE", str(tmp_path / "store"))
+    fence.share_settled(capped, setup, dict(still=False))
+    assert fence.find_settled(other, setup) is None
+    fence.share_settled(still, setup, dict(still=True))
+    assert fence.find_settled(other, setup) == str(tmp_path / "store" / "settled" /
+                                                   pathlib.Path(still).parent.name / "settled.restart")
+    monkeypatch.setenv("WIRENET_CACHE", "off")
+    assert fence.find_settled(other, setup) is None
+
+
+def test_a_fence_settled_by_one_study_starts_another_the_same(tmp_path):
+    """A still settled fence goes to the user's store (WIRENET_CACHE) and a study in another
+    folder with the same fence starts from it: the same settled facts, and the impact's tables
+    identical to the first study's, which settled the fence itself (restart continuity)."""
+    env = dict(os.environ, WIRENET_SETUP="skip", WIRENET_BUILD=str(lmp.BUILD),
+               WIRENET_CACHE=str(tmp_path / "cache"))
+    args = [str(DRIVER), "run", "fence_square", "--quick", "--np", "1", "--set", "fence.modules=1",
+            "--set", "fence.duration=0.05", "--set", "fence.rest_time=0", "--out"]
+    cases = []
+    for name in ("first", "second"):
+        p = subprocess.run(args + [str(tmp_path / name)], capture_output=True, text=True,
+                           env=env, timeout=900)
+        assert p.returncode == 0, p.stderr[-2000:]
+        cases.append(tmp_path / name / "fence_square")
+    first, second = (json.loads((c / "case.json").read_text()) for c in cases)
+    kept = list((tmp_path / "cache" / "settled").glob("*/settled.restart"))
+    assert first["settled_from"] is None and first["settled"]["still"] and len(kept) == 1
+    assert second["settled_from"] == str(kept[0])
+    assert second["settled"] == first["settled"]
+    for table in ("block.csv", "run/fence.csv", "supports.csv"):
+        assert (cases[0] / table).read_bytes() == (cases[1] / table).read_bytes(), table
 
 
 def test_a_fence_that_did_not_settle_is_not_ok():

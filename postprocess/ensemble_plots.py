@@ -51,6 +51,12 @@ def figure_distributions(name, summary, prefix, outputs=None):
             for q in ("q05", "q95"):
                 ax.axvline(stats[q] / output["scale"], color="tab:red", ls="--",
                            label="5 / 95 %" if q == "q05" else None)
+        else:
+            # (a fence's residual height when every block went on: a failed test has none)
+            ax.text(0.5, 0.5, "no member has a value", ha="center", va="center",
+                    transform=ax.transAxes, color="0.4")
+            ax.set_xticks([])
+            ax.set_yticks([])
         ax.set_xlabel(_axis_label(output))
         ax.set_ylabel("members")
     axes[0].legend(fontsize="x-small")

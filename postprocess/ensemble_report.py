@@ -145,7 +145,10 @@ def ensemble_lines(ensembles, comparisons, figures, directory):
                         [f"{o['label']} [{o['unit']}]" for o in e["outputs"]] +
                         ["broke through"], list(_member_rows(e)))
         if e["mode"] == "random":
-            lines += ["", "Statistics of the members that ended ok:", ""]
+            heading = "Statistics of the members that ended ok" + (
+                " (the residual height: of those whose block stayed in the fence; where it went "
+                "on, the test failed)" if e["kind"] == "fence" else "")
+            lines += ["", heading + ":", ""]
             lines += _table(["output", "n", "mean", "std", "5 %", "50 %", "95 %",
                              "mean's 95 % interval", "first half's mean"],
                             list(_statistics_rows(e)))

@@ -59,6 +59,10 @@ def member_outputs(kind, meta, summary):
         f = summary.get("fence") or {}
         values = {o.name: f.get(o.name) for o in FENCE_OUTPUTS if o.name in f}
         values["residual_height"] = meta.get("residual_height")
+        if meta.get("rest_skipped"):
+            # the block left the fence moving on: a failed test has no residual height (the
+            # ropes' gap at the impact's end, torn, is not one to average with the others)
+            values["residual_height"] = values["residual_height_ratio"] = None
         for family, peak in sorted((f.get("rope_peaks") or {}).items()):
             values[f"rope:{family}"] = peak
         stopped = f.get("block_stopped")

@@ -184,3 +184,19 @@ def test_paired_comparison_of_ensembles_that_drew_the_same():
     s["seed"] = 41
     next(iter(s["members"].values()))["drawn"] = {"speed_factor": 2.0}
     assert ensembles.comparisons({"c": c, "s": s})[0]["paired"]["n"] == 4
+
+
+def test_a_block_that_went_on_leaves_no_residual_height_to_average():
+    """A fence member whose block left the fence moving on (rest skipped: a failed test) has no
+    residual height in the ensemble's statistics; one whose block stopped keeps it."""
+    summary = {"fence": {"braking_distance": 6.3, "residual_height_ratio": -0.012,
+                         "block_stopped": False}}
+    values, through = ensembles.member_outputs(
+        "fence", {"residual_height": -0.058, "rest_skipped": True}, summary)
+    assert through is True and values["braking_distance"] == 6.3
+    assert values["residual_height"] is None and values["residual_height_ratio"] is None
+    summary["fence"].update(block_stopped=True, residual_height_ratio=0.62)
+    values, through = ensembles.member_outputs(
+        "fence", {"residual_height": 3.1, "rest_skipped": False}, summary)
+    assert through is False and values["residual_height"] == 3.1
+    assert values["residual_height_ratio"] == 0.62

@@ -170,10 +170,13 @@ def test_a_still_fence_is_found_whatever_settle_time_allowed(tmp_path, monkeypat
         (tmp_path / name).write_text(name)
     setup = object.__new__(fence.Setup)
     setup.workdir, setup.data_path = str(tmp_path), str(tmp_path / "fence.data")
-    setup.shackles, setup.types_path = str(tmp_path / "fence.shackles"), str(tmp_path / "fence.types.in")
+    setup.shackles = str(tmp_path / "fence.shackles")
+    setup.types_path = str(tmp_path / "fence.types.in")
     cap = {"relax_steps": 287400}
-    monkeypatch.setattr(fence.Setup, "settle_variables", lambda self: dict(dt_settle="1e-5", **cap))
-    still, capped = fence.settled_path(tmp_path, setup, True), fence.settled_path(tmp_path, setup, False)
+    monkeypatch.setattr(fence.Setup, "settle_variables",
+                        lambda self: dict(dt_settle="1e-5", **cap))
+    still = fence.settled_path(tmp_path, setup, True)
+    capped = fence.settled_path(tmp_path, setup, False)
     assert still != capped and fence.find_settled(tmp_path, setup) is None
     restart = tmp_path / "settled.restart"
     restart.write_bytes(b"restart")

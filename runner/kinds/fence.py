@@ -367,9 +367,10 @@ def share_settled(cached, setup, settled):
         return
     try:
         keep_settled(cached, target, settled)
-    except OSError as exc:
-        print(f"wirenet: note: the settled fence not kept in {os.path.dirname(target)} "
-              f"({exc.strerror or exc}); set WIRENET_CACHE to another folder or 'off'")
+    except (OSError, PostprocessError) as exc:   # (the atomic writes raise the latter)
+        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else exc
+        print(f"wirenet: note: the settled fence not kept in the store ({reason}); set "
+              "WIRENET_CACHE to another folder or 'off'")
 
 
 def settled_facts_path(cached):

@@ -26,6 +26,7 @@ import numpy as np
 import pytest
 
 import lmp
+from postprocess.errors import PostprocessError
 from runner.errors import RunError
 from runner.kinds import fence
 
@@ -197,6 +198,30 @@ def test_a_still_fence_is_found_whatever_settle_time_allowed(tmp_path, monkeypat
                                                    pathlib.Path(still).parent.name / "settled.restart")
     monkeypatch.setenv("WIRENET_CACHE", "off")
     assert fence.find_settled(other, setup) is None
+
+
+def test_a_store_that_cannot_be_written_is_said_and_passed_over(tmp_path, monkeypatch, capsys):
+    """WIRENET_CACHE naming a file (no folder can be made under it): the case goes on without
+    the store, after one note line naming the variable; nothing is found there either."""
+    blocker = tmp_path / "a_file"
+    blocker.write_text("not a folder")
+    monkeypatch.setenv("WIRENET_CACHE", str(blocker))
+    setup = object.__new__(fence.Setup)
+    monkeypatch.setattr(fence.Setup, "settled_key", lambda self, capped=False: "key")
+    restart = tmp_path / "settled.restart"
+    restart.write_bytes(b"restart")
+    fence.share_settled(str(restart), setup, dict(still=True))
+    out = capsys.readouterr().out
+    assert out.count("\n") == 1 and "not kept in the store" in out and "WIRENET_CACHE" in out
+    assert fence.find_settled(tmp_path / "study", setup) is None
+    # a write that fails in the atomic writer (a full disk) is passed over the same way
+    monkeypatch.setenv("WIRENET_CACHE", str(tmp_path / "store"))
+
+    def full(*_):
+        raise PostprocessError("settled.restart: cannot write: No space left on device")
+    monkeypatch.setattr(fence, "keep_settled", full)
+    fence.share_settled(str(restart), setup, dict(still=True))
+    assert "No space left on device" in capsys.readouterr().out
 
 
 def test_a_fence_settled_by_one_study_starts_another_the_same(tmp_path):

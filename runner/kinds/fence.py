@@ -15,6 +15,7 @@ Deck: inputs/fence.in (include/fence_impact.in). Results, each from its own mech
 - ruptures by family.
 """
 
+import functools
 import hashlib
 import json
 import math
@@ -187,6 +188,12 @@ KEYS = (
            "fence's post-base peak at the support ropes' rupture by 20 % (0.7 % between two runs "
            "at 0.5 that settled differently; 0.3 gives -6 %: that peak is not converged)",
            "docs/PERFORMANCE.md (2026-11-28, the fence's time step)", low=0.0, low_open=True, high=1.0),
+    _fence("settle_dt_fraction", "number", 0.0, "", "the settling's time step as a fraction of "
+           "its stable step (the bonds and contacts with the light nodes settle_mass_factor times "
+           "heavier); 0: fence.dt_fraction. The settling has no block and ends on its stillness "
+           "tests, so its step decides its speed, not the impact's numbers beyond the settled "
+           "state's tolerance", "docs/PERFORMANCE.md (2026-11-29, fifth: the settling's step)",
+           low=0.0, high=1.0),
     _fence("dt", "number", 0.0, "s", "time step; 0: fence.dt_fraction of the stable step of the "
            "bonds and the block's contact on the lightest node (compute wirenet/timestep)", "doc/fence.md",
            low=0.0, high=1e-3),
@@ -513,7 +520,8 @@ class Setup:
         stable, settling = self._stable_step(np_)
         self.dt_bonds, self.dt_contact, self.dt_stable = stable.bonds, stable.contact, stable.loaded
         self.dt_fraction = c["fence.dt_fraction"]
-        self.dt_settle = self.dt_fraction * settling.loaded
+        self.dt_settle_stable = settling.loaded
+        self.dt_settle = (c["fence.settle_dt_fraction"] or self.dt_fraction) * settling.loaded
         self.dt = c["fence.dt"] or self.dt_fraction * self.dt_stable
         if self.dt > self.dt_stable:
             raise RunError(f"fence.dt = {self.dt:g} s exceeds the stable step "
@@ -572,11 +580,10 @@ class Setup:
                     settle_carry=repr(SETTLE_CARRY),
                     **rest_probe(self.meta, self.dt_settle, self.settle_every, "settle_window"))
 
-    def settled_key(self, capped=False):
-        """sha256 of everything the settled fence depends on: the generated files, the deck and
-        its includes, the settling's variables and the LIGGGHTS binary. A fence that became
-        still is the same whatever fence.settle_time allowed it (the deck stops at stillness):
-        its key leaves the cap (relax_steps) out; one that did not is kept under ``capped``."""
+    @functools.cached_property
+    def _files_digest(self):
+        """The settled key's hash of the files (read once per case: the binary is 40 MB and a
+        case asks for its key up to five times)."""
         h = hashlib.sha256()
         # the generated files name their own folder: the key must not
         prefix = os.path.abspath(os.path.join(self.workdir, "fence")).encode()
@@ -585,6 +592,14 @@ class Setup:
         for path in files:
             with open(path, "rb") as fh:
                 h.update(fh.read().replace(prefix, b"PREFIX"))
+        return h
+
+    def settled_key(self, capped=False):
+        """sha256 of everything the settled fence depends on: the generated files, the deck and
+        its includes, the settling's variables and the LIGGGHTS binary. A fence that became
+        still is the same whatever fence.settle_time allowed it (the deck stops at stillness):
+        its key leaves the cap (relax_steps) out; one that did not is kept under ``capped``."""
+        h = self._files_digest.copy()
         variables = {k: v for k, v in self.settle_variables().items()
                      if k not in ("data", "types", "shackles", "out", "inc") + IMPACT_ONLY
                      and (capped or k != "relax_steps")}
@@ -874,6 +889,7 @@ class Fence(CaseKind):
                      dissipation=dissipation.model(c),
                      dt=setup.dt, dt_fraction=setup.dt_fraction, dt_stable_bonds=setup.dt_bonds,
                      dt_stable_contact=setup.dt_contact, steps=setup.steps,
+                     dt_settle=setup.dt_settle, dt_settle_stable=setup.dt_settle_stable,
                      duration=setup.duration, settle_time=setup.settle_time,
                      rest_time=setup.rest_time, impacts=setup.impacts,
                      relax_steps=setup.relax_steps, run_wall_time=wall,

@@ -27,6 +27,7 @@ import pytest
 
 import lmp
 from postprocess.errors import PostprocessError
+from runner import schema
 from runner.errors import RunError
 from runner.kinds import fence
 
@@ -60,6 +61,10 @@ def test_budget_and_momentum_close(study, name):
     # omega_c^2 (doc/compute_wirenet_timestep.md), dt_b = 2 / omega_b, dt_c = 2 / omega_c
     together = 1.0 / np.sqrt(m["dt_stable_bonds"] ** -2 + m["dt_stable_contact"] ** -2)
     assert m["dt"] == pytest.approx(m["dt_fraction"] * together, rel=1e-9)
+    # the settling's step: fence.settle_dt_fraction of its own stable step (0: dt_fraction's)
+    settle = schema.default_of(schema.BY_PATH["fence.settle_dt_fraction"], "fence", quick=True) \
+        or m["dt_fraction"]
+    assert m["dt_settle"] == pytest.approx(settle * m["dt_settle_stable"], rel=1e-12)
 
 
 @pytest.mark.parametrize("name", ["fence_compound", "fence_compound_local"])

@@ -353,16 +353,50 @@ def settled_path(study_dir, setup, still, shared=False):
     return os.path.join(root, setup.settled_key(capped=not still), "settled.restart")
 
 
+# The user's store keeps the settled fences used last within this size (about 50 default
+# compound fences of 40 MB; a rebuilt binary or an edited deck makes new keys, so old entries
+# are never asked for again): a settled state is a cache, settled again when missing.
+STORE_LIMIT = 2 * 1024 ** 3     # bytes
+
+
 def find_settled(study_dir, setup):
     """The kept settled fence a case can start from, or None: the study's own (a still one
     first), then a still one of the user's store (the same key: the same files, decks, binary
-    and settling variables, whichever study settled it)."""
+    and settling variables, whichever study settled it), marked as used now."""
     places = [(False, True), (False, False)] + ([(True, True)] if shared_settled_dir() else [])
     for shared, still in places:
         path = settled_path(study_dir, setup, still, shared)
         if os.path.isfile(path):
+            if shared:
+                _mark_used(os.path.dirname(path))
             return path
     return None
+
+
+def _mark_used(entry):
+    try:
+        os.utime(entry)
+    except OSError:
+        pass
+
+
+def prune_store(root, limit=None):
+    """Remove the store's least recently used settled fences (by their folder's time, set when
+    kept or used) beyond ``limit`` bytes, the latest always kept; returns how many went."""
+    limit = STORE_LIMIT if limit is None else limit
+    entries = []
+    for entry in os.scandir(root):
+        if entry.is_dir(follow_symlinks=False):
+            size = sum(f.stat().st_size for f in os.scandir(entry.path) if f.is_file())
+            entries.append((entry.stat().st_mtime, size, entry.path))
+    entries.sort(reverse=True)
+    total, removed = 0, 0
+    for k, (_, size, path) in enumerate(entries):
+        total += size
+        if k > 0 and total > limit:
+            shutil.rmtree(path, ignore_errors=True)
+            removed += 1
+    return removed
 
 
 def share_settled(cached, setup, settled):
@@ -375,10 +409,15 @@ def share_settled(cached, setup, settled):
         return
     try:
         keep_settled(cached, target, settled)
+        removed = prune_store(shared_settled_dir())
     except (OSError, PostprocessError) as exc:   # (the atomic writes raise the latter)
         reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else exc
         print(f"wirenet: note: the settled fence not kept in the store ({reason}); set "
               "WIRENET_CACHE to another folder or 'off'")
+        return
+    if removed:
+        print(f"wirenet: note: {removed} settled fence(s) used least recently removed from the "
+              f"store {shared_settled_dir()} (it keeps {STORE_LIMIT / 1024 ** 3:g} GB)")
 
 
 def settled_facts_path(cached):

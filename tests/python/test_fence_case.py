@@ -229,6 +229,37 @@ def test_a_store_that_cannot_be_written_is_said_and_passed_over(tmp_path, monkey
     assert "No space left on device" in capsys.readouterr().out
 
 
+def test_the_store_keeps_the_fences_used_last(tmp_path, monkeypatch, capsys):
+    """The user's store is bounded (fence.STORE_LIMIT): beyond it the settled fences used least
+    recently go, the latest always stays, and a case that starts from an entry marks it used."""
+    store = tmp_path / "settled"
+    for k, name in enumerate(("old", "used", "new")):
+        entry = store / name
+        entry.mkdir(parents=True)
+        (entry / "settled.restart").write_bytes(b"x" * 400)
+        os.utime(entry, (1000.0 + k, 1000.0 + k))
+    assert fence.prune_store(str(store), limit=10 ** 6) == 0
+    # a case of another study starts from "used": it becomes the latest
+    monkeypatch.setenv("WIRENET_CACHE", str(tmp_path))
+    setup = object.__new__(fence.Setup)
+    monkeypatch.setattr(fence.Setup, "settled_key", lambda self, capped=False: "used")
+    assert fence.find_settled(tmp_path / "study", setup) == str(store / "used" / "settled.restart")
+    assert fence.prune_store(str(store), limit=900) == 1
+    assert sorted(p.name for p in store.iterdir()) == ["new", "used"]
+    # the latest stays even alone over the limit
+    assert fence.prune_store(str(store), limit=100) == 1
+    assert [p.name for p in store.iterdir()] == ["used"]
+    # a fence kept in the store prunes it, in one note line
+    monkeypatch.setattr(fence, "STORE_LIMIT", 100)
+    monkeypatch.setattr(fence.Setup, "settled_key", lambda self, capped=False: "newest")
+    restart = tmp_path / "settled.restart"
+    restart.write_bytes(b"y" * 50)
+    fence.share_settled(str(restart), setup, dict(still=True))
+    out = capsys.readouterr().out
+    assert out.count("\n") == 1 and "1 settled fence(s) used least recently removed" in out
+    assert [p.name for p in store.iterdir()] == ["newest"]
+
+
 def test_a_fence_settled_by_one_study_starts_another_the_same(tmp_path):
     """A still settled fence goes to the user's store (WIRENET_CACHE) and a study in another
     folder with the same fence starts from it: the same settled facts, and the impact's tables

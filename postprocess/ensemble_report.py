@@ -27,8 +27,9 @@ COMPARISON_NOTE = (
 SENSITIVITY_NOTE = (
     "One-at-a-time sensitivity (ensemble.sensitivity): each key times each factor alone, every "
     "other number as in the base case (member 0); the change of each output against the base, "
-    "relative and absolute (in the output's unit). A number whose change moves an output by "
-    "more than the ensembles' spread deserves a source first.")
+    "relative and absolute (in the output's unit); 'block': whether the block broke through, in "
+    "bold where the factor changed the base's verdict. A number whose change moves an output by "
+    "more than the ensembles' spread, or turns the verdict, deserves a source first.")
 
 
 def _num(value, digits=4):
@@ -186,6 +187,16 @@ def comparison_lines(ensembles, comparisons):
          "verdict"], rows)
 
 
+def _verdict_change(through, base_through):
+    """A member's block (through, stopped), in bold with the base's when the factor changed it."""
+    if through is None:
+        return "n/a"
+    word = "through" if through else "stopped"
+    if base_through is None or bool(base_through) == bool(through):
+        return word
+    return f"**{word}** (base: {'through' if base_through else 'stopped'})"
+
+
 def sensitivity_lines(ensembles):
     """The sensitivity tables of the sensitivity ensembles (next to the unsourced numbers)."""
     studies = {n: e for n, e in ensembles.items() if e["mode"] == "sensitivity"}
@@ -200,17 +211,25 @@ def sensitivity_lines(ensembles):
         lines += [f"{name} (base: member_000; " + ", ".join(
             f"{o['label']} {_num(_scaled(base.get('outputs', {}).get(o['name']), o))} {o['unit']}"
             for o in shown) + "):", ""]
+        verdicts = base.get("breakthrough") is not None or any(
+            r.get("breakthrough") is not None for r in e["sensitivity_rows"])
         rows = []
         for r in e["sensitivity_rows"]:
-            cells = []
+            cells = [_verdict_change(r.get("breakthrough"), base.get("breakthrough"))] \
+                if verdicts else []
             for o in shown:
                 change = r["changes"][o["name"]]
+                if change["absolute"] is None and change.get("value") is not None:
+                    # the base has none (a fence that failed has no residual height): the value
+                    cells.append(f"{_num(_scaled(change['value'], o))} {o['unit']} (base: n/a)")
+                    continue
                 cells.append("n/a" if change["absolute"] is None else
                              (f"{100 * change['relative']:+.3g} %"
                               if change["relative"] is not None else "-") +
                              f" ({_scaled(change['absolute'], o):+.4g} {o['unit']})")
             rows.append([f"`{r['key']}`", f"{r['factor']:g}", r["status"]] + cells)
-        lines += _table(["key", "factor", "status"] + [o["label"] for o in shown], rows)
+        lines += _table(["key", "factor", "status"] + (["block"] if verdicts else []) +
+                        [o["label"] for o in shown], rows)
         skipped = (e["sensitivity"] or {}).get("skipped") or []
         if skipped:
             lines += ["", "Left out: " + "; ".join(f"`{s['key']}` ({s['why']})"

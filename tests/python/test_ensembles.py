@@ -214,3 +214,31 @@ def test_report_of_a_bad_ensemble_json_is_one_line(tmp_path, manifest, message):
     assert p.returncode == 2 and p.stderr.count("\n") == 1, p.stderr
     assert "ensemble.json" in p.stderr and message in p.stderr
     assert not (tmp_path / "report.md").exists()
+
+
+def test_a_sensitivity_table_says_where_a_factor_turns_the_verdict():
+    """The sensitivity rows: each output's change against the base member, the member's own
+    value where the base has none (a failed fence's residual height), and the block's verdict,
+    in bold with the base's where the factor turned it (the 500 kJ square fence's thicker
+    support ropes stop the block the base lets through: doc/fence.md)."""
+    from postprocess import ensemble_report, ensembles
+
+    def member(key, factor, through, anchor, rest):
+        return dict(key=key, factor=factor, status="ok", breakthrough=through,
+                    outputs=dict(anchor_peak=anchor, post_base_peak=3.0e5,
+                                 braking_distance=6.0, residual_height=rest))
+    members = {"member_000": member(None, None, True, 2.0e5, None),
+               "member_001": member("fence.support_rope_d", 0.8, True, 1.5e5, None),
+               "member_002": member("fence.support_rope_d", 1.2, False, 3.0e5, 1.6)}
+    rows = ensembles.sensitivity_rows("fence", members)
+    assert [r["breakthrough"] for r in rows] == [True, False]
+    assert rows[0]["changes"]["anchor_peak"]["relative"] == pytest.approx(-0.25)
+    assert rows[1]["changes"]["residual_height"] == dict(absolute=None, relative=None, value=1.6)
+    outputs = [dict(name=o.name, label=o.label, unit=o.unit, scale=o.scale)
+               for o in ensembles.FENCE_OUTPUTS]
+    e = dict(mode="sensitivity", outputs=outputs, sensitivity_rows=rows, members=members,
+             sensitivity={})
+    table = [line for line in ensemble_report.sensitivity_lines({"fence_square": e})
+             if line.startswith("| `")]
+    assert "| through |" in table[0] and "-25 %" in table[0]
+    assert "| **stopped** (base: through) |" in table[1] and "1.6 m (base: n/a)" in table[1]

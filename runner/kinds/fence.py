@@ -386,9 +386,12 @@ def prune_store(root, limit=None):
     limit = STORE_LIMIT if limit is None else limit
     entries = []
     for entry in os.scandir(root):
-        if entry.is_dir(follow_symlinks=False):
-            size = sum(f.stat().st_size for f in os.scandir(entry.path) if f.is_file())
-            entries.append((entry.stat().st_mtime, size, entry.path))
+        try:   # (another case may be keeping or pruning an entry meanwhile)
+            if entry.is_dir(follow_symlinks=False):
+                size = sum(f.stat().st_size for f in os.scandir(entry.path) if f.is_file())
+                entries.append((entry.stat().st_mtime, size, entry.path))
+        except OSError:
+            continue
     entries.sort(reverse=True)
     total, removed = 0, 0
     for k, (_, size, path) in enumerate(entries):

@@ -211,17 +211,21 @@ def sensitivity_lines(ensembles):
         lines += [f"{name} (base: member_000; " + ", ".join(
             f"{o['label']} {_num(_scaled(base.get('outputs', {}).get(o['name']), o))} {o['unit']}"
             for o in shown) + "):", ""]
-        verdicts = base.get("breakthrough") is not None or any(
-            r.get("breakthrough") is not None for r in e["sensitivity_rows"])
+        # each row's member: its verdict and its own values (members that ended ok)
+        ran = {r["member"]: e["members"][r["member"]] for r in e["sensitivity_rows"]
+               if r["status"] == "ok"}
+        verdicts = any(m.get("breakthrough") is not None for m in [base, *ran.values()])
         rows = []
         for r in e["sensitivity_rows"]:
-            cells = [_verdict_change(r.get("breakthrough"), base.get("breakthrough"))] \
+            member = ran.get(r["member"], {})
+            cells = [_verdict_change(member.get("breakthrough"), base.get("breakthrough"))] \
                 if verdicts else []
             for o in shown:
                 change = r["changes"][o["name"]]
-                if change["absolute"] is None and change.get("value") is not None:
+                value = member.get("outputs", {}).get(o["name"])
+                if change["absolute"] is None and value is not None:
                     # the base has none (a fence that failed has no residual height): the value
-                    cells.append(f"{_num(_scaled(change['value'], o))} {o['unit']} (base: n/a)")
+                    cells.append(f"{_num(_scaled(value, o))} {o['unit']} (base: n/a)")
                     continue
                 cells.append("n/a" if change["absolute"] is None else
                              (f"{100 * change['relative']:+.3g} %"

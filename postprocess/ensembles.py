@@ -197,8 +197,7 @@ def sweep_rows(manifest, members, outputs):
 
 def sensitivity_rows(kind, members):
     """One row per scaled key and factor: the change of each of the kind's sensitivity outputs
-    against the base member (absolute, SI, and relative), and whether its block broke through
-    (None: not said); [] without a base that ended ok."""
+    against the base member (absolute, SI, and relative); [] without a base that ended ok."""
     base = next((m for m in members.values() if m["key"] is None), None)
     if base is None or base["status"] != "ok":
         return []
@@ -211,11 +210,9 @@ def sensitivity_rows(kind, members):
             b, v = base["outputs"].get(output), m["outputs"].get(output)
             ok = m["status"] == "ok" and b is not None and v is not None
             changes[output] = dict(absolute=v - b if ok else None,
-                                   relative=(v - b) / b if ok and b else None,
-                                   value=v if m["status"] == "ok" else None)
+                                   relative=(v - b) / b if ok and b else None)
         rows.append(dict(member=name, key=m["key"], factor=m["factor"], status=m["status"],
-                         changes=changes,
-                         breakthrough=m["breakthrough"] if m["status"] == "ok" else None))
+                         changes=changes))
     return rows
 
 

@@ -382,16 +382,20 @@ def _mark_used(entry):
 
 def prune_store(root, limit=None):
     """Remove the store's least recently used settled fences (by their folder's time, set when
-    kept or used) beyond ``limit`` bytes, the latest always kept; returns how many went."""
+    kept or used) beyond ``limit`` bytes, the latest always kept; returns how many went. It never
+    fails: what it cannot read or remove (another case keeping or pruning meanwhile) stays."""
     limit = STORE_LIMIT if limit is None else limit
     entries = []
-    for entry in os.scandir(root):
-        try:   # (another case may be keeping or pruning an entry meanwhile)
-            if entry.is_dir(follow_symlinks=False):
-                size = sum(f.stat().st_size for f in os.scandir(entry.path) if f.is_file())
-                entries.append((entry.stat().st_mtime, size, entry.path))
-        except OSError:
-            continue
+    try:
+        for entry in os.scandir(root):
+            try:
+                if entry.is_dir(follow_symlinks=False):
+                    size = sum(f.stat().st_size for f in os.scandir(entry.path) if f.is_file())
+                    entries.append((entry.stat().st_mtime, size, entry.path))
+            except OSError:
+                continue
+    except OSError:
+        return 0
     entries.sort(reverse=True)
     total, removed = 0, 0
     for k, (_, size, path) in enumerate(entries):
@@ -412,12 +416,12 @@ def share_settled(cached, setup, settled):
         return
     try:
         keep_settled(cached, target, settled)
-        removed = prune_store(shared_settled_dir())
     except (OSError, PostprocessError) as exc:   # (the atomic writes raise the latter)
         reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else exc
         print(f"wirenet: note: the settled fence not kept in the store ({reason}); set "
               "WIRENET_CACHE to another folder or 'off'")
         return
+    removed = prune_store(shared_settled_dir())
     if removed:
         print(f"wirenet: note: {removed} settled fence(s) used least recently removed from the "
               f"store {shared_settled_dir()} (it keeps {STORE_LIMIT / 1024 ** 3:g} GB)")

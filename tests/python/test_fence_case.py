@@ -239,6 +239,7 @@ def test_the_store_keeps_the_fences_used_last(tmp_path, monkeypatch, capsys):
         (entry / "settled.restart").write_bytes(b"x" * 400)
         os.utime(entry, (1000.0 + k, 1000.0 + k))
     assert fence.prune_store(str(store), limit=10 ** 6) == 0
+    assert fence.prune_store(str(tmp_path / "gone"), limit=0) == 0     # it never fails
     # a case of another study starts from "used": it becomes the latest
     monkeypatch.setenv("WIRENET_CACHE", str(tmp_path))
     setup = object.__new__(fence.Setup)

@@ -94,6 +94,8 @@ def error_of(text):
     ('kind = "punch"\n[output]\nframes = true\n', "output.frames: must be an integer, got"),
     ('kind = "fence"\n[fence]\nsettle_kinetic = false\n', "fence.settle_local: 0 with fence.settle_kinetic false"),
     ('kind = "fence"\n[fence]\nsettle_local = 1.0\n', "fence.settle_local: must be <= 0.99, got 1"),
+    ('kind = "fence"\n[fence]\nsettle_dt_fraction = 1.5\n', "fence.settle_dt_fraction: must be <= 1, got 1.5"),
+    ('kind = "fence"\n[fence]\nsettle_dt_fraction = nan\n', "fence.settle_dt_fraction: must be a finite number"),
     ('kind = "fence"\n[fence]\nduration = 0.001\n', "fence.duration: 0.001 s: shorter than two rows"),
 ])
 def test_bad_case_file_is_one_line_naming_the_key(text, expected):

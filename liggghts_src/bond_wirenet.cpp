@@ -25,7 +25,7 @@ static const char HISTORY_FIX_ID[] = "wirenet_bonds";
 
 BondWirenet::BondWirenet(LAMMPS *lmp) :
   Bond(lmp), nbeam(0), ncircular(0), list_version(-1), history(NULL), any_beam(0), any_strength(0),
-  any_beam_damping(0), any_damping(0), computes(0), plastic_synced(0), duplicates_checked(false) {}
+  any_beam_damping(0), any_damping(0), keep_damp_loads(false), computes(0), plastic_synced(0), duplicates_checked(false) {}
 
 BondWirenet::~BondWirenet()
 {
@@ -398,7 +398,7 @@ __attribute__((always_inline)) inline void BondWirenet::compute_wire(int index, 
     const double c = 2.0 * zeta * sqrt(e.k.ku * mi * mj / (mi + mj));
     pull = tension + c * vn;
     if (pull < 0.0) pull = 0.0;
-    wire_damp.push_back({ index, (pull - tension) / r });
+    if (keep_damp_loads) wire_damp.push_back({ index, (pull - tension) / r });
   }
   const double fr = pull / r;
   f[e.i][0] += fr * dx; f[e.i][1] += fr * dy; f[e.i][2] += fr * dz;
@@ -570,6 +570,7 @@ void BondWirenet::compute(int eflag, int vflag)
   elastic_energy.assign(ntypes, 0.0);
   wire_damp.clear();
   beam_damp.clear();
+  keep_damp_loads = any_damping && history->damping_tallied();
   if (any_damping) compute_wires<true>(eflag, x, f);
   else compute_wires<false>(eflag, x, f);
   if (!beam_list.empty()) {
@@ -589,7 +590,7 @@ void BondWirenet::compute(int eflag, int vflag)
   }
   // the tally at the end of the step (every rank asks: its ghost update is collective); the
   // set-up's velocities are full-step ones already
-  if (any_damping) {
+  if (keep_damp_loads) {
     if (update->setupflag) tally_damping();
     else history->request_damping_tally(this);
   }
@@ -640,7 +641,7 @@ void BondWirenet::damp_beams()
         t[3 * i + c] += d.ti[c];
         t[3 * j + c] += d.tj[c];
       }
-      beam_damp.push_back(d);
+      if (keep_damp_loads) beam_damp.push_back(d);
     }
   }
 }

@@ -82,6 +82,7 @@ class BondWirenet : public Bond {
   int any_strength;      // a beam type with `strength`
   int any_beam_damping;  // a beam type with `damping` > 0
   int any_damping;       // any type with `damping` > 0
+  bool keep_damp_loads;  // this compute() keeps its damping loads for the tally (fix_modify)
   // per bond type, in this compute() (energy budget): elastic energy (with eflag); at the end of
   // the step: power dissipated by bond damping
   std::vector<double> damping_power, elastic_energy;

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <string>
 #include <unordered_map>
 
 #include "atom.h"
@@ -29,7 +30,7 @@ static const int RUPTURE_COLS = 8;
 FixWirenetBonds::FixWirenetBonds(LAMMPS *lmp, int narg, char **arg) :
   Fix(lmp, narg, arg),
   hist(NULL), quat(NULL), rot(NULL), orient_flag(0), vel_flag(0), version(0), ghost_extent(0.0), reach_grown(false),
-  nbroken_total(0), nbroken_pending(0), elastic_step(-1), pair_wanted(false), damping_source(nullptr), maxlocal(0)
+  nbroken_total(0), nbroken_pending(0), elastic_step(-1), pair_wanted(false), damping_source(nullptr), damping_tally(true), maxlocal(0)
 {
   if (narg != 3) error->all(FLERR, "fix wirenet/bonds takes no arguments (it is created by bond_style wirenet)");
   if (!atom->molecular) error->all(FLERR, "fix wirenet/bonds needs an atom style with bonds");
@@ -334,6 +335,22 @@ void FixWirenetBonds::end_of_step()
   comm->forward_comm_fix(this);
   damping_source->tally_damping();
   damping_source = nullptr;
+}
+
+// fix_modify wirenet_bonds damping_tally yes|no: between runs only; a run's set-up restarts the
+// tally's half-step bookkeeping (BondWirenet::tally_damping), so switching it on loses nothing
+// of the steps after it.
+int FixWirenetBonds::modify_param(int narg, char **arg)
+{
+  if (strcmp(arg[0], "damping_tally") != 0)
+    error->all(FLERR, (std::string("fix_modify wirenet_bonds: unknown keyword '") + arg[0] +
+                       "' (expected damping_tally)").c_str());
+  if (narg < 2) error->all(FLERR, "fix_modify wirenet_bonds: expected 'fix_modify wirenet_bonds damping_tally yes|no'");
+  if (strcmp(arg[1], "yes") != 0 && strcmp(arg[1], "no") != 0)
+    error->all(FLERR, (std::string("fix_modify wirenet_bonds: damping_tally must be yes or no (got '") + arg[1] +
+                       "')").c_str());
+  damping_tally = strcmp(arg[1], "yes") == 0;
+  return 2;
 }
 
 void FixWirenetBonds::post_run()

@@ -34,6 +34,7 @@ class FixWirenetBonds : public Fix {
   void pre_force(int);
   void end_of_step();
   void post_run();
+  int modify_param(int, char **);
   double compute_scalar();
   double compute_vector(int);
   double compute_array(int, int);
@@ -85,6 +86,9 @@ class FixWirenetBonds : public Fix {
   // the bond style applied damping loads in this step's forces: at the end of the step, once
   // the ghosts have their full-step velocities, it tallies what they dissipated
   void request_damping_tally(class BondWirenet *b) { damping_source = b; }
+  // whether the bond dampers' work is tallied at all (fix_modify damping_tally yes|no): a
+  // settling that no budget reads skips the tally; the damping forces are the same either way
+  bool damping_tallied() const { return damping_tally; }
   // The elastic energy of this rank's bonds of each type (e[type], type 1..nbondtypes) at the
   // current step (global array column 1): set by the bond style whenever it tallies energies.
   void set_elastic_energy(const std::vector<double> &e);
@@ -124,6 +128,7 @@ class FixWirenetBonds : public Fix {
   void sync_tallies();  // the plastic-work tally brought up to the bonds' state
   bool pair_wanted;
   class BondWirenet *damping_source;  // set for this step by request_damping_tally
+  bool damping_tally;                 // fix_modify damping_tally (default yes)
   std::vector<double> pair_snap;  // [6 * nlocal]: f and torque
 
   int maxlocal;  // rows allocated in array_local (this rank's ruptures, for dump local)

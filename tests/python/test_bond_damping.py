@@ -5,7 +5,9 @@ own two-node oscillator, c = 2 ZETA sqrt(k m_eff). Checked here: the free decay 
 analytic rate exp(-ZETA omega t), omega = sqrt(k / m_eff) (a wire held taut by a constant pair of
 forces, the axial, the twist and the shear mode of a beam); an isolated vibrating net conserves linear and
 angular momentum to round-off while its energy goes into the damping tally f_wirenet_bonds[4],
-which closes the energy budget; `damping 0` is the run without the keyword, bit for bit.
+which closes the energy budget; `damping 0` is the run without the keyword, bit for bit; the
+tally switched off for a run (fix_modify wirenet_bonds damping_tally no, a settling that no budget
+reads) leaves the motion bit for bit and the budget closing again once it is back on.
 """
 
 import math
@@ -284,6 +286,37 @@ def test_zero_damping_is_no_damping(tmp_path):
     assert all(r["diss"] == 0.0 for r in r_zero)
     same = [[v for k, v in sorted(r.items()) if k != "diss"] for r in r_none]
     assert same == [[v for k, v in sorted(r.items()) if k != "diss"] for r in r_zero]
+
+
+def test_damping_tally_off_leaves_the_motion_and_resumes(tmp_path):
+    """Three runs of the damped net, the tally off in the middle one: the nodes move exactly as
+    with the tally on throughout, the tally stands still while it is off, and from the third
+    run's start the budget closes again with the same dissipation as the tally that was on."""
+    runs = {}
+    for name, switch in (("on", "yes"), ("off", "no")):
+        wd = tmp_path / name
+        wd.mkdir()
+        write_net(wd / "net.data")
+        deck = net_deck(ZETA, steps=12000).replace("dump d all custom 40000", "dump d all custom 4000")
+        deck = deck.replace("run 12000", f"run 4000\nfix_modify wirenet_bonds damping_tally {switch}\n"
+                            "run 4000\nfix_modify wirenet_bonds damping_tally yes\nrun 4000")
+        out = lmp.run_deck(deck, wd)
+        runs[name] = (lmp.thermo_rows(out), lmp.dump_atom_frames(wd / "net.dump"))
+    (r_on, f_on), (r_off, f_off) = runs["on"], runs["off"]
+    for step in (4000, 8000, 12000):
+        np.testing.assert_array_equal(f_on[step][1], f_off[step][1])
+    def by_step(rows):   # a run's first row repeats the last row of the run before
+        return {r["Step"]: r for r in rows}
+    on, off = by_step(r_on), by_step(r_off)
+    assert [off[s]["diss"] for s in range(4000, 8001, 1000)] == [off[4000]["diss"]] * 5
+    assert off[4000]["diss"] == on[4000]["diss"] > 0.0
+    gained_on = on[12000]["diss"] - on[8000]["diss"]
+    gained_off = off[12000]["diss"] - off[8000]["diss"]
+    assert gained_on > 0.0
+    assert abs(gained_off - gained_on) <= 1e-12 * on[12000]["diss"]
+    e = {s: off[s]["ke"] + off[s]["er"] + off[s]["pe"] + off[s]["plast"] for s in range(8000, 12001, 1000)}
+    closing = max(abs(e[s] + off[s]["diss"] - off[8000]["diss"] - e[8000]) for s in e)
+    assert closing < 1e-4 * e[8000]
 
 
 def final_state(wd, deck, np_=1):

@@ -7,7 +7,8 @@ coordinate, non-finite or invalid per-atom values, repeated atom IDs and bonds (
 bonds to missing atoms; LIGGGHTS' own messages for these ("Did not assign all atoms correctly",
 "1-3 bond count is inconsistent", an MPI_Abort of one rank) did not say which. The read_data
 checks are cmake/patches/0005-read-data-checks.patch. Fix arguments: non-finite and out-of-range
-numbers of fix wirenet/damping, wirenet/rigidmesh and wirenet/contactwork.
+numbers of fix wirenet/damping, wirenet/rigidmesh and wirenet/contactwork; fix_modify of fix
+wirenet/bonds.
 """
 
 import pytest
@@ -265,4 +266,22 @@ def test_bad_contactwork_arguments(tmp_path, case):
     lmp.write_data(tmp_path / "net.data", ATOMS, BONDS)
     rc, out = lmp.run_deck_rc(lmp.PREAMBLE + f"read_data net.data\nfix cw all wirenet/contactwork {args}\nrun 0\n",
                               tmp_path, timeout=120)
+    check_error(rc, out, phrase)
+
+
+BAD_BONDS_MODIFY = {
+    "unknown keyword": ("tally no", "fix_modify wirenet_bonds: unknown keyword 'tally' (expected damping_tally)"),
+    "no value": ("damping_tally", "fix_modify wirenet_bonds: expected 'fix_modify wirenet_bonds damping_tally yes|no'"),
+    "not yes or no": ("damping_tally off", "fix_modify wirenet_bonds: damping_tally must be yes or no (got 'off')"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD_BONDS_MODIFY))
+def test_bad_bonds_fix_modify(tmp_path, case):
+    args, phrase = BAD_BONDS_MODIFY[case]
+    lmp.write_data(tmp_path / "net.data", ATOMS, BONDS)
+    deck = (lmp.PREAMBLE + "read_data net.data\nbond_style wirenet\n"
+            "bond_coeff 1 wire diameter 0.0027 curve 0.01 2.5e8 0.05 5e8\n"
+            f"run 0\nfix_modify wirenet_bonds {args}\nrun 0\n")
+    rc, out = lmp.run_deck_rc(deck, tmp_path, timeout=120)
     check_error(rc, out, phrase)

@@ -42,6 +42,13 @@ def run_data(tmp_path, atoms=ATOMS, bonds=BONDS, np=1, preamble=lmp.PREAMBLE, te
     return lmp.run_deck_rc(preamble + "read_data net.data\n", tmp_path, np=np, timeout=120)
 
 
+def check_row_error(tmp_path, commands, phrase):
+    """The row of four nodes read, then the deck's commands: one clear error naming phrase."""
+    lmp.write_data(tmp_path / "net.data", ATOMS, BONDS)
+    rc, out = lmp.run_deck_rc(lmp.PREAMBLE + "read_data net.data\n" + commands, tmp_path, timeout=120)
+    check_error(rc, out, phrase)
+
+
 def data_text(box_x="-1 1", atoms_lines=None, bonds_lines=None):
     atoms_lines = atoms_lines or [" ".join(repr(v) for v in a) for a in ATOMS]
     bonds_lines = bonds_lines or [" ".join(str(v) for v in b) for b in BONDS]
@@ -193,10 +200,7 @@ BAD_DAMPING = {
 @pytest.mark.parametrize("case", sorted(BAD_DAMPING))
 def test_bad_damping_alpha(tmp_path, case):
     args, phrase = BAD_DAMPING[case]
-    lmp.write_data(tmp_path / "net.data", ATOMS, BONDS)
-    rc, out = lmp.run_deck_rc(lmp.PREAMBLE + f"read_data net.data\nfix damp all wirenet/damping {args}\nrun 0\n",
-                              tmp_path, timeout=120)
-    check_error(rc, out, phrase)
+    check_row_error(tmp_path, f"fix damp all wirenet/damping {args}\nrun 0\n", phrase)
 
 
 CUBE = """solid cube
@@ -263,10 +267,7 @@ BAD_CONTACTWORK = {
 @pytest.mark.parametrize("case", sorted(BAD_CONTACTWORK))
 def test_bad_contactwork_arguments(tmp_path, case):
     args, phrase = BAD_CONTACTWORK[case]
-    lmp.write_data(tmp_path / "net.data", ATOMS, BONDS)
-    rc, out = lmp.run_deck_rc(lmp.PREAMBLE + f"read_data net.data\nfix cw all wirenet/contactwork {args}\nrun 0\n",
-                              tmp_path, timeout=120)
-    check_error(rc, out, phrase)
+    check_row_error(tmp_path, f"fix cw all wirenet/contactwork {args}\nrun 0\n", phrase)
 
 
 BAD_BONDS_MODIFY = {
@@ -279,9 +280,5 @@ BAD_BONDS_MODIFY = {
 @pytest.mark.parametrize("case", sorted(BAD_BONDS_MODIFY))
 def test_bad_bonds_fix_modify(tmp_path, case):
     args, phrase = BAD_BONDS_MODIFY[case]
-    lmp.write_data(tmp_path / "net.data", ATOMS, BONDS)
-    deck = (lmp.PREAMBLE + "read_data net.data\nbond_style wirenet\n"
-            "bond_coeff 1 wire diameter 0.0027 curve 0.01 2.5e8 0.05 5e8\n"
-            f"run 0\nfix_modify wirenet_bonds {args}\nrun 0\n")
-    rc, out = lmp.run_deck_rc(deck, tmp_path, timeout=120)
-    check_error(rc, out, phrase)
+    check_row_error(tmp_path, "bond_style wirenet\nbond_coeff 1 wire diameter 0.0027 curve 0.01 2.5e8 0.05 5e8\n"
+                    f"run 0\nfix_modify wirenet_bonds {args}\nrun 0\n", phrase)

@@ -20,9 +20,10 @@ LEFT_BOX = "left-box"                # the body or atoms left the simulation box
 BUDGET_OPEN = "budget-open"          # the energy budget did not close to its tolerance
 NOT_QUASI_STATIC = "not-quasi-static"    # the quasi-static evidence failed
 NOT_SETTLED = "not-settled"          # the structure still moved under its weight at the release
+NOT_ENDED = "not-ended"              # the run ended with the block still moving into the structure
 STATUSES = (RUNNING, OK, FAILED, INTERRUPTED, NO_CONTACT, LEFT_BOX, BUDGET_OPEN,
-            NOT_QUASI_STATIC, NOT_SETTLED)
-UNSOUND = (NO_CONTACT, LEFT_BOX, BUDGET_OPEN, NOT_QUASI_STATIC, NOT_SETTLED)
+            NOT_QUASI_STATIC, NOT_SETTLED, NOT_ENDED)
+UNSOUND = (NO_CONTACT, LEFT_BOX, BUDGET_OPEN, NOT_QUASI_STATIC, NOT_SETTLED, NOT_ENDED)
 
 # the fields of the record itself; every other key of case.json is a fact of the kind
 FIELDS = ("kind", "status", "quick", "mode", "np", "case_file", "case_fingerprint", "title",

@@ -881,7 +881,22 @@ class Fence(CaseKind):
                     f"the fence was not still when the block was released: after "
                     f"fence.settle_time ({facts['settle_time']:g} s), {why}; lengthen "
                     "fence.settle_time, or see doc/fence.md (\"Limits\") if it does not stand at all")
-        return self.budget_verdict(facts)
+        return self.budget_verdict(facts) or self.ended_verdict(facts)
+
+    @staticmethod
+    def ended_verdict(facts):
+        """NOT_ENDED when the block was still going into the fence as the impact ended and
+        the rest after it did not end still either: it never turned and did not leave the fence
+        (the rest was not skipped); its braking distance and residual height are not yet the
+        test's. Without a rest (fence.rest_time 0) the case asks for the impact alone."""
+        rest = facts.get("rest")
+        if facts.get("block_stopped") is not False or rest is None or rest.get("still"):
+            return None
+        return (record.NOT_ENDED,
+                f"the block was still moving into the fence when the run ended (at "
+                f"{facts['final_block_speed']:.3g} m/s after fence.duration "
+                f"{facts['duration']:g} s, and not still after the rest): its braking distance "
+                "and residual height are not the test's yet; lengthen fence.duration")
 
     def run(self, index, ctx):
         c = self.case

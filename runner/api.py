@@ -6,7 +6,7 @@ records and report (doc/python_api.md).
     case = api.load("inputs/cases/impact_hex.toml", quick=True, set=["impact.mass=60"])
     facts = api.run(case, "out/my_impact", ranks=2)           # one case, its facts
     result = api.study("impact_square", "out/sweep", quick=True,  # a study, its summary
-                       set=['ensemble.sweep="impact.speed"', "ensemble.values=[6.0, 8.0]"])
+                       set=['ensemble.sweep="impact.mass"', "ensemble.values=[40.0, 60.0]"])
     block = api.table("out/sweep/impact_square/member_001", "block.csv")
 """
 

@@ -112,19 +112,32 @@ def figure_settling(name, summary, prefix, outputs=None):
     return save(fig, prefix, outputs)
 
 
+def _number(v):
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
 def _sweep_axis(values):
-    """(x positions, tick labels or None) of a sweep's values: the numbers themselves, or
-    their places for values that are not numbers (vectors)."""
-    if all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in values):
-        return [float(v) for v in values], None
-    return list(range(len(values))), [str(v) for v in values]
+    """(x positions, tick labels or None, axis name or None) of a sweep's values: the numbers
+    themselves; vectors along one direction (a sweep of impact.velocity's speed) by their
+    length, named '|key|'; else their places, labelled with the values."""
+    if all(_number(v) for v in values):
+        return [float(v) for v in values], None, None
+    if all(isinstance(v, list) and v and all(_number(c) for c in v) for v in values):
+        vectors = np.array(values, dtype=float) if len({len(v) for v in values}) == 1 else None
+        if vectors is not None:
+            lengths = np.linalg.norm(vectors, axis=1)
+            if np.all(lengths > 0) and len(set(lengths)) == len(lengths):
+                units = vectors / lengths[:, None]
+                if np.allclose(units, units[0], rtol=0.0, atol=1e-9):
+                    return [float(x) for x in lengths], None, "length"
+    return list(range(len(values))), [str(v) for v in values], None
 
 
 def figure_sweep(name, summary, prefix, outputs=None):
     """Each output against the swept value: every member (points) and the mean per value."""
     plt = pyplot()
     sweep = summary["sweep"]
-    x_of, labels = _sweep_axis(sweep["values"])
+    x_of, labels, measure = _sweep_axis(sweep["values"])
     fig, axes = _grid(plt, len(summary["outputs"]))
     for ax, output in zip(axes, summary["outputs"]):
         for value, x in zip(sweep["values"], x_of):
@@ -137,7 +150,8 @@ def figure_sweep(name, summary, prefix, outputs=None):
                 label="mean")
         if labels:
             ax.set_xticks(x_of, labels, fontsize="x-small", rotation=20)
-        ax.set_xlabel(sweep["key"] + (f" [{sweep['unit']}]" if sweep.get("unit") else ""))
+        axis = f"|{sweep['key']}|" if measure == "length" else sweep["key"]
+        ax.set_xlabel(axis + (f" [{sweep['unit']}]" if sweep.get("unit") else ""))
         ax.set_ylabel(_axis_label(output))
     axes[0].legend(fontsize="x-small")
     fig.suptitle(f"{name}: each output against {sweep['key']}")

@@ -174,3 +174,55 @@ def test_python_api_refuses_bad_input_with_an_exception(tmp_path):
     with pytest.raises(StudyError, match="impact.mas: unknown key"):
         api.study("impact_square", str(tmp_path / "out"), quick=True, set=["impact.mas=3"])
     assert not (tmp_path / "out").exists()
+
+
+def test_engineer_cases_from_python_and_from_the_cli(tmp_path):
+    """docs/examples/engineer.py (issue #42): the four cases an engineer brought and the
+    five-speed sweep, one study of documented keys only, run through runner.api under --quick
+    (about 3 min, most of it the 5 m punch and its slower twin, and the fence). What it prints is
+    each case's facts; the sweep's members and one case run again from the CLI as the README
+    types it give the same numbers; the physics: the 40 m/s block tears the hex net and goes
+    through, the sweep's support peak grows with the speed (the block's momentum), its figure
+    is drawn against the speed."""
+    import sys
+    sys.path.insert(0, str(lmp.ROOT))
+    from postprocess.ensemble_plots import _sweep_axis
+
+    env = dict(os.environ, WIRENET_SETUP="skip", WIRENET_BUILD=str(lmp.BUILD))
+    api_out = tmp_path / "api"
+    p = subprocess.run(["/usr/bin/python3", str(EXAMPLES / "engineer.py"), str(api_out)],
+                       capture_output=True, text=True, env=env, timeout=3600, cwd=lmp.ROOT)
+    assert p.returncode == 0, p.stderr[-2000:] + p.stdout[-2000:]
+    lines = {line.split(":")[0]: line for line in p.stdout.splitlines() if ": " in line}
+    for case in ("oblique_dt_4x6", "square_5m_offcentre_punch", "fence_2modules_250kJ",
+                 "block_40ms"):
+        assert meta(api_out / case)["status"] == "ok", case
+    assert lines["block_40ms"].startswith("block_40ms: passed through")
+    fast = meta(api_out / "block_40ms")
+    assert fast["block_verdict"] == "passed through" and fast["broken_bonds"] > 0
+    fence = meta(api_out / "fence_2modules_250kJ")
+    assert fence["block_stopped"] and fence["fence"]["modules"] == 2
+    assert f"braking distance {fence['braking_distance']:.3f} m" in lines["fence_2modules_250kJ"]
+    # the sweep: printed by speed, supports' peak [kN] growing with it
+    rows = [line.split(" | ") for line in p.stdout.splitlines() if line[:1].isdigit()]
+    assert [float(r[0]) for r in rows] == [5.0, 10.0, 15.0, 20.0, 25.0]
+    peaks = [float(r[1]) for r in rows]
+    assert all(a < b for a, b in zip(peaks, peaks[1:])), peaks
+    summary = json.loads((api_out / "summary.json").read_text())
+    sweep = summary["ensembles"]["speed_sweep"]["sweep"]
+    assert _sweep_axis(sweep["values"]) == ([5.0, 10.0, 15.0, 20.0, 25.0], None, "length")
+    assert (api_out / "figures" / "ensemble_speed_sweep_sweep.png").is_file()
+    # the CLI, from the repository root with the README's relative path, on the ranks the study
+    # gave each case (a tearing net's forces move by 0.1 % with the rank count): the same numbers
+    for name in ("speed_sweep", "block_40ms"):
+        cli = tmp_path / f"cli_{name}"
+        ranks = meta(api_out / name / ("member_000" if name == "speed_sweep" else ""))["np"]
+        c = subprocess.run([str(DRIVER), "run", f"docs/examples/engineer/{name}.toml", "--quick",
+                            "--np", str(ranks), "--out", str(cli)], capture_output=True, text=True, env=env,
+                           timeout=1800, cwd=lmp.ROOT)
+        assert c.returncode == 0, c.stderr[-2000:]
+        members = [f"member_{k:03d}" for k in range(5)] if name == "speed_sweep" else [""]
+        for member in members:
+            ours, theirs = meta(cli / name / member), meta(api_out / name / member)
+            for key in ("edge_force_peak", "peak_block_force_windowed", "max_displacement"):
+                assert ours[key] == pytest.approx(theirs[key], rel=1e-9), (name, member, key)

@@ -12,7 +12,7 @@ It runs the study docs/examples/engineer/study.toml (--quick unless --full) exac
 does (the same cases, files and report: runner.api.study is the command's runner), then reads
 each case's facts and prints the design outputs a designer sizes a structure for, in kN, kJ and
 m (the CSVs stay in SI): what became of the block, the supports' and anchors' peaks, the block
-force raw and as a windowed mean, and the sweep's outputs against the speed. Exit 0 when every
+force as its peak row mean and as a windowed mean, and the sweep's outputs against the speed. Exit 0 when every
 case is sound, 3 when one is not (its status printed), 2 on bad input or a failed case.
 """
 
@@ -33,12 +33,14 @@ def kn(newtons):
 
 
 def impact_row(name, f):
-    """An impact's design outputs: the block's verdict and largest travel, its force (raw peak
-    and windowed peak with the window), the most loaded edge's and all supports' peak."""
+    """An impact's design outputs: the block's verdict and largest travel, its force (the
+    largest mean over one output row, and the windowed peak with its window: the plateau to
+    design with; the raw samples can miss the first touch's spike, doc/impact.md), the most
+    loaded edge's and all supports' peak."""
     edges = f["support_peaks"]
     worst = max(edges, key=lambda p: edges[p]["force"])
     return (f"{name}: {f['block_verdict']}, largest travel {f['max_displacement']:.3f} m; "
-            f"block force {kn(f['peak_block_force_raw'])} kN raw, "
+            f"block force {kn(f['peak_block_force'])} kN peak (row mean), "
             f"{kn(f['peak_block_force_windowed'])} kN over {f['force_window'] * 1e3:.3g} ms; "
             f"supports {kn(f['edge_force_peak'])} kN together, edge {worst} "
             f"{kn(edges[worst]['force'])} kN; {f['broken_bonds']} bonds broken")

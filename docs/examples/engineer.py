@@ -12,8 +12,9 @@ It runs the study docs/examples/engineer/study.toml (--quick unless --full) exac
 does (the same cases, files and report: runner.api.study is the command's runner), then reads
 each case's facts and prints the design outputs a designer sizes a structure for, in kN, kJ and
 m (the CSVs stay in SI): what became of the block, the supports' and anchors' peaks, the block
-force as its peak row mean and as a windowed mean, and the sweep's outputs against the speed. Exit 0 when every
-case is sound, 3 when one is not (its status printed), 2 on bad input or a failed case.
+force as its peak row mean and as a windowed mean, and the sweep's outputs against the speed.
+Exit 0 when every case is sound, 3 when one is not (its status printed), 2 on bad input or a
+failed case.
 """
 
 import os

@@ -630,3 +630,13 @@ def test_a_block_through_the_quick_fence_keeps_the_budget_and_skips_the_rest(tmp
     assert m["energy"]["mechanisms"]["structural damping (bonds)"] < 0.2 * m["energy"]["initial_energy"]
     assert m["rest_skipped"] and m["rest"] is None and m["residual_height_at"] == "end of impact"
     assert not (tmp_path / "fence_compound" / "run" / "rest.csv").exists()
+
+
+def test_neighbour_bins_are_0p1_m_unless_the_box_would_hold_too_many():
+    """fence.bin_size: the default compound fence's box (42 x 21 x 7 m) keeps 0.1 m bins; a
+    600 m fence (20 modules of 30 m) gets bins coarse enough for MAX_BINS over its box."""
+    assert fence.bin_size([[-21, -10, -1], [21, 11, 5.9]]) == fence.BIN_SIZE
+    big = [[-300, -10, -1], [300, 11, 5.9]]
+    size = fence.bin_size(big)
+    assert size > fence.BIN_SIZE
+    assert 602 * 23 * 8.9 / size ** 3 == pytest.approx(fence.MAX_BINS, rel=1e-9)

@@ -55,6 +55,11 @@ SETTLE_SOFTEN = 16.0     # the slope's contact with the nodes this many times so
                          # mesh settles (kn, ks; fix_modify soften): the step is then the bonds',
                          # 2.2x the contact's on the example; the still mesh moves by its weight
                          # / kn (nm). Not with a terrain (fix wall/gran keeps its stiffness)
+SETTLE_WEIGHT_STEP = 4.0  # drapery.settle_weight's stages: the weight falls 4x from one to the
+                          # next (64: 64, 16, 4, 1 g), so each gives back a quarter of the wires'
+                          # stretch (measured: docs/PERFORMANCE.md, "2026-12-07: drapery")
+SETTLE_PLASTIC_WORK = 1e-6  # J: a settling whose wires did more plastic work than this (round-off
+                            # 1e-17 J on the examples) yielded: not-settled
 SETTLED_FRACTION = 0.1   # the mesh's own rise before the load touches it, at most this of the
                          # peak bulge: else the bulge and the anchors' loads are the settling's
 CONTACT_FRACTION = 1e-6  # the load touched the mesh: a peak force above this times its weight
@@ -126,13 +131,18 @@ KEYS = (
     _drapery("settle_time", "number", 5.0, "s", "settling of the laid mesh under its weight "
              "before the load is released, at most (viscous damping, outside the budget; it ends "
              "earlier once the mesh is still: drapery.settle_speed)", "doc/drapery.md",
-             low=0.0, high=100.0, quick=0.05),
+             low=0.0, high=100.0, quick=2.0),
     _drapery("settle_speed", "number", 1e-3, "m/s", "the settling ends when the mesh's rms "
              f"speed falls below this (checked every {SETTLE_CHECK:g} s; under the settling's "
              f"viscous damping of {dissipation.SETTLE_VISCOUS:g} 1/s a speed v is an unbalanced "
              f"acceleration of {dissipation.SETTLE_VISCOUS:g} v)",
              "numerical: a stillness tolerance (the case's not-settled check judges it)",
              low=0.0, low_open=True, high=100.0),
+    _drapery("settle_weight", "number", 64.0, "", "the mesh settles first under this many "
+             "times its weight (damping and speed limit sqrt of it times theirs), then under its "
+             "own to drapery.settle_speed: the same shape of wires that barely stretch, sooner "
+             "(no wire may yield or break meanwhile: settling.plastic_work)",
+             "numerical (doc/drapery.md, \"A heavier mesh first\")", low=1.0, high=1000.0),
     _drapery("duration", "number", 3.0, "s", "simulated time after the release", EXAMPLE,
              low=0.0, low_open=True, high=100.0, quick=0.15),
     _drapery("dt_fraction", "number", 0.5, "", "time step as a fraction of the stable step of "
@@ -438,6 +448,8 @@ class Setup:
                  settle_viscous=repr(dissipation.SETTLE_VISCOUS),
                  settle_speed=repr(c["drapery.settle_speed"]), settle_chunk=self.settle_chunk,
                  settle_chunks=self.settle_chunks, dt_settle=repr(self.dt_settle),
+                 settle_weight=repr(c["drapery.settle_weight"]),
+                 settle_stages=settle_stages(c["drapery.settle_weight"]),
                  settle_soften=repr(self.soften), dt=repr(self.dt), steps=self.steps,
                  every=self.every,
                  dump_every=self.dump_every, out=".",
@@ -450,15 +462,26 @@ class Setup:
         return v
 
 
+def settle_stages(weight):
+    """How many heavier stages the settling has before the one under the mesh's own weight:
+    the weight falls SETTLE_WEIGHT_STEP times (at most) from one stage to the next."""
+    if weight <= 1.0:
+        return 0
+    return max(int(math.ceil(math.log(weight) / math.log(SETTLE_WEIGHT_STEP) - 1e-9)), 1)
+
+
 def read_settling(workdir, case):
     """settling.csv (the deck's): when the settling ended, the mesh's rms speed then, and
     whether that was below drapery.settle_speed (else the settling ran its whole time)."""
-    row = read_csv(os.path.join(workdir, "settling.csv"), required=("step", "time",
-                                                                    "rms_speed", "still"))
+    row = read_csv(os.path.join(workdir, "settling.csv"), required=(
+        "step", "time", "rms_speed", "still", "first_stage_time", "plastic_work", "broken"))
+    first = float(row["first_stage_time"][-1])
     return {"time": float(row["time"][-1]), "steps": int(row["step"][-1]),
             "rms_speed": float(row["rms_speed"][-1]), "still": bool(row["still"][-1]),
             "speed_limit": case["drapery.settle_speed"],
-            "viscous": dissipation.SETTLE_VISCOUS}
+            "viscous": dissipation.SETTLE_VISCOUS, "weight": case["drapery.settle_weight"],
+            "first_stage_time": first if first >= 0 else None,
+            "plastic_work": float(row["plastic_work"][-1]), "broken": int(row["broken"][-1])}
 
 
 def read_table(workdir):
@@ -617,9 +640,14 @@ class Drapery(CaseKind):
             return (record.NO_CONTACT, f"the {what} never touched the mesh: check "
                                        "drapery.release_distance, drapery.point_x and "
                                        "drapery.duration")
+        settle = facts.get("settling") or {}
+        if settle.get("broken", 0) or settle.get("plastic_work", 0.0) > SETTLE_PLASTIC_WORK:
+            return (record.NOT_SETTLED, f"wires yielded or broke while the mesh settled under "
+                    f"up to {settle['weight']:g} times its weight (plastic work "
+                    f"{settle['plastic_work']:.3g} J, {settle['broken']} broken): the settled "
+                    f"mesh is not its own; lower drapery.settle_weight")
         before = facts.get("before_contact") or {}
         if before.get("bulge", 0.0) > SETTLED_FRACTION * facts["bulge_peak"]:
-            settle = facts.get("settling") or {}
             speed = (f" (the settling ended after {settle['time']:.3g} s with the mesh at "
                      f"{settle['rms_speed']:.2g} m/s rms)" if settle else "")
             return (record.NOT_SETTLED, f"the mesh was still moving when the load was released"

@@ -631,6 +631,13 @@ class Drapery(CaseKind):
         return 20
 
     def verdict(self, facts):
+        # a settling that damaged the mesh first: nothing after it is the case's
+        settle = facts.get("settling") or {}
+        if settle.get("broken", 0) or settle.get("plastic_work", 0.0) > SETTLE_PLASTIC_WORK:
+            return (record.NOT_SETTLED, f"wires yielded or broke while the mesh settled under "
+                    f"up to {settle['weight']:g} times its weight (plastic work "
+                    f"{settle['plastic_work']:.3g} J, {settle['broken']} broken): the settled "
+                    f"mesh is not its own; lower drapery.settle_weight")
         load = facts.get("debris") or facts.get("block") or {}
         # round-off of the contacts' impulse on a load that never touched is far below this
         touched = facts["peak_block_force"] > CONTACT_FRACTION * load.get("mass", 0.0) * \
@@ -640,12 +647,6 @@ class Drapery(CaseKind):
             return (record.NO_CONTACT, f"the {what} never touched the mesh: check "
                                        "drapery.release_distance, drapery.point_x and "
                                        "drapery.duration")
-        settle = facts.get("settling") or {}
-        if settle.get("broken", 0) or settle.get("plastic_work", 0.0) > SETTLE_PLASTIC_WORK:
-            return (record.NOT_SETTLED, f"wires yielded or broke while the mesh settled under "
-                    f"up to {settle['weight']:g} times its weight (plastic work "
-                    f"{settle['plastic_work']:.3g} J, {settle['broken']} broken): the settled "
-                    f"mesh is not its own; lower drapery.settle_weight")
         before = facts.get("before_contact") or {}
         if before.get("bulge", 0.0) > SETTLED_FRACTION * facts["bulge_peak"]:
             speed = (f" (the settling ended after {settle['time']:.3g} s with the mesh at "

@@ -631,9 +631,11 @@ class Drapery(CaseKind):
         return 20
 
     def verdict(self, facts):
-        # a settling that damaged the mesh first: nothing after it is the case's
+        # a heavier settling that damaged the mesh first: nothing after it is the case's (under
+        # its own weight alone, a yield is the mesh's and the budget's to judge)
         settle = facts.get("settling") or {}
-        if settle.get("broken", 0) or settle.get("plastic_work", 0.0) > SETTLE_PLASTIC_WORK:
+        damaged = settle.get("broken", 0) or settle.get("plastic_work", 0.0) > SETTLE_PLASTIC_WORK
+        if damaged and settle.get("weight", 1.0) > 1.0:
             return (record.NOT_SETTLED, f"wires yielded or broke while the mesh settled under "
                     f"up to {settle['weight']:g} times its weight (plastic work "
                     f"{settle['plastic_work']:.3g} J, {settle['broken']} broken): the settled "

@@ -522,12 +522,12 @@ def aim_point(meta, offset):
                  offset[1] * up / np.linalg.norm(up))
 
 
-
 def bin_size(positions):
     """The neighbour bins' size [m] for atoms at ``positions``: BIN_SIZE, or the size at which
     their bounding box (1 m more each way: the block, the swinging ropes) holds MAX_BINS."""
     extent = np.ptp(np.asarray(positions, float), axis=0) + 2.0
     return max(BIN_SIZE, float(np.prod(extent) / MAX_BINS) ** (1.0 / 3.0))
+
 
 class Setup:
     """Everything a fence run needs, from the checked case; variables() gives the deck's -var

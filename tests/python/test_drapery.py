@@ -74,17 +74,19 @@ def test_a_mesh_that_rose_before_the_load_touched_it_is_not_settled(force, bulge
         assert "drapery.settle_time" in verdict[1] and "0.011 m" in verdict[1]
 
 
-@pytest.mark.parametrize("plastic, broken, status", [
-    (1e-17, 0, None), (1e-3, 0, "not-settled"), (0.0, 2, "not-settled"),
-    (5074.0, 18, "not-settled")])    # the full example at 64 (its block never released long)
-def test_a_settling_that_yielded_wires_is_not_settled(plastic, broken, status):
+@pytest.mark.parametrize("weight, plastic, broken, status", [
+    (64.0, 1e-17, 0, None), (64.0, 1e-3, 0, "not-settled"), (64.0, 0.0, 2, "not-settled"),
+    (64.0, 5074.0, 18, "not-settled"),   # the full example at 64 (its block never released long)
+    (1.0, 1e-3, 2, None)])               # under its own weight alone: the mesh's own yield
+def test_a_settling_that_yielded_wires_is_not_settled(weight, plastic, broken, status):
     """The heavier stages of the settling must leave every wire elastic: a settled mesh whose
-    wires yielded or broke under 64 times its weight is not its own (round-off passes)."""
+    wires yielded or broke under 64 times its weight is not its own (round-off passes); under
+    its own weight only, a yield is the mesh's, not the settling's."""
     case = casefile.read(str(EXAMPLE), quick=True)
     force = 0.0 if broken == 18 else 100.0      # a settling that broke wires comes first
     facts = dict(peak_block_force=force, block=dict(mass=500.0), gravity=9.81, bulge_peak=0.1,
                  before_contact=dict(time=0.1, bulge=0.0), energy=dict(closure_error=0.0),
-                 momentum=None, settling=dict(weight=64.0, plastic_work=plastic, broken=broken))
+                 momentum=None, settling=dict(weight=weight, plastic_work=plastic, broken=broken))
     verdict = drapery.Drapery(case).verdict(facts)
     assert (verdict[0] if verdict else None) == status
     if status:
@@ -163,6 +165,8 @@ def test_tilt_data_rewrites_positions_and_box_only(tmp_path):
     ("[drapery]\ndebris_mass = inf\n", "drapery.debris_mass"),
     ("[drapery]\nsettle_speed = 0.0\n", "drapery.settle_speed"),    # never still
     ("[drapery]\nsettle_speed = nan\n", "drapery.settle_speed"),
+    ("[drapery]\nsettle_weight = 0.5\n", "drapery.settle_weight"),   # lighter: not a settling
+    ("[drapery]\nsettle_weight = inf\n", "drapery.settle_weight"),
 ])
 def test_bad_drapery_keys_get_one_line(tmp_path, text, key):
     bad = tmp_path / "bad.toml"

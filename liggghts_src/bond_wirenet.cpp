@@ -25,7 +25,7 @@ static const char HISTORY_FIX_ID[] = "wirenet_bonds";
 
 BondWirenet::BondWirenet(LAMMPS *lmp) :
   Bond(lmp), nbeam(0), ncircular(0), list_version(-1), history(NULL), any_beam(0), any_strength(0),
-  any_beam_damping(0), any_damping(0), keep_damp_loads(false), computes(0), plastic_synced(0), duplicates_checked(false) {}
+  any_beam_damping(0), any_damping(0), keep_damp_loads(false), computes(0), plastic_synced(0), law_scale(1.0), inv_scale2(1.0), duplicates_checked(false) {}
 
 BondWirenet::~BondWirenet()
 {
@@ -251,6 +251,8 @@ void BondWirenet::build_list()
   int **bond_type = atom->bond_type;
   double **x = atom->x;
   nbeam = 0;
+  law_scale = history->law_scale();
+  inv_scale2 = 1.0 / (law_scale * law_scale);
   for (int i = 0; i < nlocal; i++)
     for (int m = 0; m < num_bond[i]; m++) {
       const int type = bond_type[i][m];
@@ -266,7 +268,7 @@ void BondWirenet::build_list()
         if (e.h[FixWirenetBonds::L0] < 0.0) continue;  // broken, awaiting removal
         WireEntry w;
         static_cast<Entry &>(w) = e;
-        wires[type]->prepare(e.h, w.k);
+        wires[type]->prepare(e.h, w.k, law_scale);
         w.zeta = wires[type]->params().damping;  // a brake's too
         w.law = wires[type].get();
         wire_list.push_back(w);
@@ -382,8 +384,9 @@ __attribute__((always_inline)) inline void BondWirenet::compute_wire(int index, 
     const double mid[3] = { x[e.i][0] + 0.5 * dx, x[e.i][1] + 0.5 * dy, x[e.i][2] + 0.5 * dz };
     // a rupture leaves the state as it was: its plastic work goes to the tally for good, and the
     // elastic energy of the last state (on the envelope, at the largest elongation) is released
-    history->add_tally(e.type, FixWirenetBonds::PLASTIC, e.law->plastic_work(e.k, h));
-    history->break_bond(e.i, e.m, mid, r - h[W_L0], 0.5 * h[W_FMAX] * h[W_FMAX] / h[W_KU]);
+    // (both at scale 1, as sum_plastic)
+    history->add_tally(e.type, FixWirenetBonds::PLASTIC, e.law->plastic_work(e.k, h, law_scale) * inv_scale2);
+    history->break_bond(e.i, e.m, mid, r - h[W_L0], 0.5 * h[W_FMAX] * h[W_FMAX] / h[W_KU] * inv_scale2);
     return;
   }
   if (tension == 0.0) return;  // slack or shortened: no force, no damping
@@ -598,11 +601,30 @@ void BondWirenet::compute(int eflag, int vflag)
   if (update->setupflag) report_timestep();
 }
 
+// At a scale s != 1 (fix_modify wirenet_bonds scale) the work is the law's at scale 1, s^-2
+// times that at s: a change of scale maps every state onto the same place of its envelope, so
+// the sum does not jump, and the tally counts what the net at scale 1 would have done.
 void BondWirenet::sum_plastic(std::vector<double> &per_type) const
 {
   per_type.assign((size_t)atom->nbondtypes + 1, 0.0);
   for (const WireEntry &e : wire_list)
-    if (e.h[FixWirenetBonds::L0] > 0.0) per_type[e.type] += e.law->plastic_work(e.k, e.h);
+    if (e.h[FixWirenetBonds::L0] > 0.0) per_type[e.type] += e.law->plastic_work(e.k, e.h, law_scale) * inv_scale2;
+}
+
+// A bond's state at the new scale: its largest elongation and the force there, ratio times.
+void BondWirenet::rescale_wire_states(double ratio)
+{
+  const int *num_bond = atom->num_bond;
+  int **bond_type = atom->bond_type;
+  for (int i = 0; i < atom->nlocal; i++)
+    for (int m = 0; m < num_bond[i]; m++) {
+      const int type = bond_type[i][m];
+      if (type <= 0 || !wires[type]) continue;
+      double *h = history->record(i, m);
+      if (h[FixWirenetBonds::L0] <= 0.0) continue;  // not initialised yet, or broken
+      h[W_UMAX] *= ratio;
+      h[W_FMAX] *= ratio;
+    }
 }
 
 // Each bond is on one rank at a time; a bond that moved to another rank leaves this rank's sum
@@ -747,7 +769,7 @@ bool BondWirenet::bond_state(int i, int m, int j, BondState &s) const
   s.length = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
   s.length0 = h[FixWirenetBonds::L0];
   if (wires[type]) {
-    s.tension = wires[type]->tension_const(s.length - s.length0, h);
+    s.tension = wires[type]->tension_const(s.length - s.length0, h, history->law_scale());
     s.shear = s.moment = 0.0;
   } else {
     BeamResult out;

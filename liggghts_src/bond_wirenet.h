@@ -54,6 +54,9 @@ class BondWirenet : public Bond {
   // Tally the energy the bond dampers took over this step: called by fix wirenet/bonds at the
   // end of the step, with every node's (ghosts' too) full-step velocity current.
   void tally_damping();
+  // fix_modify wirenet_bonds scale: every wire and brake bond's state (largest elongation and
+  // its force) times ratio, the new scale over the old (this rank's bonds; between runs)
+  void rescale_wire_states(double ratio);
 
  private:
   // The intact local bonds, rebuilt whenever atoms or bond slots change: wire bonds as entries
@@ -100,6 +103,7 @@ class BondWirenet : public Bond {
   // tally was last brought up to date (sync_plastic), and scratch for the sum now
   std::vector<double> plastic_seen, plastic_now;
   long computes, plastic_synced;  // compute() calls; the call the tally is up to date with
+  double law_scale, inv_scale2;   // the history fix's law_scale() when the list was built; 1 / its square
   void sum_plastic(std::vector<double> &per_type) const;
 
   void allocate();

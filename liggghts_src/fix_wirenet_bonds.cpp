@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
 #include <string>
 #include <unordered_map>
 
@@ -21,6 +22,7 @@
 #include "force.h"
 #include "memory.h"
 #include "update.h"
+#include "wirenet_fix_args.h"
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
@@ -30,7 +32,7 @@ static const int RUPTURE_COLS = 8;
 FixWirenetBonds::FixWirenetBonds(LAMMPS *lmp, int narg, char **arg) :
   Fix(lmp, narg, arg),
   hist(NULL), quat(NULL), rot(NULL), orient_flag(0), vel_flag(0), version(0), ghost_extent(0.0), reach_grown(false),
-  nbroken_total(0), nbroken_pending(0), elastic_step(-1), pair_wanted(false), damping_source(nullptr), damping_tally(true), maxlocal(0)
+  nbroken_total(0), nbroken_pending(0), elastic_step(-1), pair_wanted(false), damping_source(nullptr), damping_tally(true), law_scale_(1.0), maxlocal(0)
 {
   if (narg != 3) error->all(FLERR, "fix wirenet/bonds takes no arguments (it is created by bond_style wirenet)");
   if (!atom->molecular) error->all(FLERR, "fix wirenet/bonds needs an atom style with bonds");
@@ -202,7 +204,8 @@ int FixWirenetBonds::unpack_border(int n, int first, double *buf)
 }
 
 // Layout: { -(number of values that follow), broken bonds, the three tallies' sums, number of
-// bond types, the tallies of rows 0..types }. Files written before the per-type tallies end
+// bond types, the tallies of rows 0..types, the laws' scale (fix_modify scale: the bonds'
+// states are at it) }; files without the scale are at scale 1. Files written before the per-type tallies end
 // after the sums (and before the damping tally, files hold { broken bonds (>= 0), released
 // energy, plastic work }): the sign of the first value and the count tell them apart
 // (restart() is not told the size of its state).
@@ -221,6 +224,7 @@ void FixWirenetBonds::write_restart(FILE *fp)
   }
   list.push_back(ntypes);
   list.insert(list.end(), all.begin(), all.end());
+  list.push_back(law_scale_);
   list[0] = -(double)(list.size() - 1);
   // Modify::read_restart reads this many BYTES of state (not values).
   int size = (int)(sizeof(double) * list.size());
@@ -240,10 +244,12 @@ void FixWirenetBonds::restart(char *buf)
   }
   nbroken_total = (bigint)list[0];
   std::fill(tally_mine.begin(), tally_mine.end(), 0.0);
-  if (comm->me != 0) return;
   const int ntypes = atom->nbondtypes;
+  const int n_tallies = 2 + NTALLY + (ntypes + 1) * NTALLY;
+  law_scale_ = n == n_tallies + 1 ? list[n_tallies] : 1.0;
+  if (comm->me != 0) return;
   if (n > 1 + NTALLY) {
-    if ((int)list[1 + NTALLY] != ntypes || n != 2 + NTALLY + (ntypes + 1) * NTALLY)
+    if ((int)list[1 + NTALLY] != ntypes || (n != n_tallies && n != n_tallies + 1))
       error->one(FLERR, "bond_style wirenet: the restart file's energy tallies are for another number of bond types");
     for (size_t k = 0; k < tally_mine.size(); k++) tally_mine[k] = list[2 + NTALLY + k];
   } else {
@@ -340,16 +346,37 @@ void FixWirenetBonds::end_of_step()
 // fix_modify wirenet_bonds damping_tally yes|no: between runs only; a run's set-up restarts the
 // tally's half-step bookkeeping (BondWirenet::tally_damping), so switching it on loses nothing
 // of the steps after it.
+// fix_modify wirenet_bonds scale S: the wire and brake laws at S times their scale from the next
+// run on (WireLaw::prepare); every wire bond's state goes from the old scale to S, so a bond
+// keeps its place on its envelope: under S times the loads a net is as far from yield and
+// rupture as under its own (a settling under a heavier weight, doc/fix_wirenet_bonds.md).
 int FixWirenetBonds::modify_param(int narg, char **arg)
 {
-  if (strcmp(arg[0], "damping_tally") != 0)
+  const bool tally = strcmp(arg[0], "damping_tally") == 0;
+  if (!tally && strcmp(arg[0], "scale") != 0)
     error->all(FLERR, (std::string("fix_modify wirenet_bonds: unknown keyword '") + arg[0] +
-                       "' (expected damping_tally)").c_str());
-  if (narg < 2) error->all(FLERR, "fix_modify wirenet_bonds: expected 'fix_modify wirenet_bonds damping_tally yes|no'");
-  if (strcmp(arg[1], "yes") != 0 && strcmp(arg[1], "no") != 0)
-    error->all(FLERR, (std::string("fix_modify wirenet_bonds: damping_tally must be yes or no (got '") + arg[1] +
-                       "')").c_str());
-  damping_tally = strcmp(arg[1], "yes") == 0;
+                       "' (expected damping_tally or scale)").c_str());
+  if (tally) {
+    if (narg < 2) error->all(FLERR, "fix_modify wirenet_bonds: expected 'fix_modify wirenet_bonds damping_tally yes|no'");
+    if (strcmp(arg[1], "yes") != 0 && strcmp(arg[1], "no") != 0)
+      error->all(FLERR, (std::string("fix_modify wirenet_bonds: damping_tally must be yes or no (got '") + arg[1] +
+                         "')").c_str());
+    damping_tally = strcmp(arg[1], "yes") == 0;
+    return 2;
+  }
+  double s = 0.0;
+  try {
+    int k = 0;
+    s = WireNet::FixArgs::value(narg, arg, k, "scale", 0.0, true);
+  } catch (const std::invalid_argument &e) {
+    error->all(FLERR, (std::string("fix_modify wirenet_bonds: ") + e.what()).c_str());
+  }
+  if (s != law_scale_) {
+    sync_tallies();  // the plastic work so far, at the old scale
+    if (BondWirenet *bond = dynamic_cast<BondWirenet *>(force->bond)) bond->rescale_wire_states(s / law_scale_);
+    law_scale_ = s;
+    version++;  // the bond style's envelope constants are rebuilt for the new scale
+  }
   return 2;
 }
 

@@ -89,6 +89,9 @@ class FixWirenetBonds : public Fix {
   // whether the bond dampers' work is tallied at all (fix_modify damping_tally yes|no): a
   // settling that no budget reads skips the tally; the damping forces are the same either way
   bool damping_tallied() const { return damping_tally; }
+  // the scale of the wire and brake laws (fix_modify scale; 1: as defined): the bond style
+  // prepares their envelopes at it, its bonds' states are kept at it
+  double law_scale() const { return law_scale_; }
   // The elastic energy of this rank's bonds of each type (e[type], type 1..nbondtypes) at the
   // current step (global array column 1): set by the bond style whenever it tallies energies.
   void set_elastic_energy(const std::vector<double> &e);
@@ -129,6 +132,7 @@ class FixWirenetBonds : public Fix {
   bool pair_wanted;
   class BondWirenet *damping_source;  // set for this step by request_damping_tally
   bool damping_tally;                 // fix_modify damping_tally (default yes)
+  double law_scale_;                  // fix_modify scale (default 1)
   std::vector<double> pair_snap;  // [6 * nlocal]: f and torque
 
   int maxlocal;  // rows allocated in array_local (this rank's ruptures, for dump local)

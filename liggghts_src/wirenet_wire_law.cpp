@@ -127,21 +127,23 @@ void WireLaw::init_bond(double *h, double l0, long tag1, long tag2) const
   h[W_FMAX] = 0.0;
 }
 
-void WireLaw::prepare(const double *h, WireConst &k) const
+// At scale s the map u = a e + b, F = c s(e) becomes u = (s a) e + s b, F = (s c) s(e): the
+// breakpoints s times, the slopes (k1, ku and the table's) unchanged.
+void WireLaw::prepare(const double *h, WireConst &k, double scale) const
 {
-  k.u_rupture = h[W_A] * rupture_strain_ + h[W_B];
-  k.u1 = h[W_A] * strain_[0] + h[W_B];
-  k.k1 = h[W_C] * stress_[0] / k.u1;
-  k.inv_a = 1.0 / h[W_A];
-  k.b = h[W_B];
-  k.c = h[W_C];
+  k.u_rupture = scale * (h[W_A] * rupture_strain_ + h[W_B]);
+  k.u1 = scale * (h[W_A] * strain_[0] + h[W_B]);
+  k.k1 = scale * h[W_C] * stress_[0] / k.u1;
+  k.inv_a = 1.0 / (scale * h[W_A]);
+  k.b = scale * h[W_B];
+  k.c = scale * h[W_C];
   k.ku = h[W_KU];
 }
 
-double WireLaw::tension_const(double u, const double *h) const
+double WireLaw::tension_const(double u, const double *h, double scale) const
 {
   WireConst k;
-  prepare(h, k);
+  prepare(h, k, scale);
   if (u >= h[W_UMAX]) return envelope(k, u);
   const double f = h[W_FMAX] - k.ku * (h[W_UMAX] - u);
   return f > 0.0 ? f : 0.0;
@@ -159,10 +161,10 @@ double WireLaw::envelope_work(const WireConst &k, double a, double u) const
   return 0.5 * k.k1 * k.u1 * k.u1 + k.c * a * (work_[j] + de * (stress_[j] + 0.5 * slope_[j] * de));
 }
 
-double WireLaw::plastic_work(const WireConst &k, const double *h) const
+double WireLaw::plastic_work(const WireConst &k, const double *h, double scale) const
 {
   if (h[W_UMAX] <= 0.0) return 0.0;
-  return envelope_work(k, h[W_A], h[W_UMAX]) - 0.5 * h[W_FMAX] * h[W_FMAX] / k.ku;
+  return envelope_work(k, scale * h[W_A], h[W_UMAX]) - 0.5 * h[W_FMAX] * h[W_FMAX] / k.ku;
 }
 
 }  // namespace WireNet

@@ -67,18 +67,21 @@ class WireLaw {
   // Fill a bond's record from its initial length and the two atom tags (slack draw).
   void init_bond(double *h, double l0, long tag1, long tag2) const;
 
-  // The envelope constants of a bond's record (after init_bond).
-  void prepare(const double *h, WireConst &k) const;
+  // The envelope constants of a bond's record (after init_bond), for the law at `scale` s: the
+  // envelope F_s(u) = s F(u / s), every force and elongation of it s times, its stiffnesses
+  // as they are (fix_modify wirenet_bonds scale; the record's state is kept at that scale).
+  void prepare(const double *h, WireConst &k, double scale = 1.0) const;
   // Tension [N] at elongation u; updates the plastic state (W_UMAX, W_FMAX of h). Returns false
   // on rupture. k: prepare(h).
   inline bool tension(const WireConst &k, double u, double *h, double &force) const;
-  // Tension without touching the state (output).
-  double tension_const(double u, const double *h) const;
+  // Tension without touching the state (output), for the law at `scale` (prepare()).
+  double tension_const(double u, const double *h, double scale = 1.0) const;
   // Plastic work of a bond so far: the work along the envelope up to the largest elongation
   // reached (W_UMAX) less the elastic energy unloading from there gives back. A function of the
   // state (unloading and reloading follow one elastic line), exact for the piecewise-linear
-  // envelope, so the tally is summed when it is read, not in the force loop. k: prepare(h).
-  double plastic_work(const WireConst &k, const double *h) const;
+  // envelope, so the tally is summed when it is read, not in the force loop. k: prepare(h, k,
+  // scale); the work of the law at that scale (scale^2 times the work at scale 1).
+  double plastic_work(const WireConst &k, const double *h, double scale = 1.0) const;
 
   // Slack fraction r in [0,1] (triangular, mode 1/2) drawn from the seed and the two tags.
   static double slack_draw(long seed, long tag1, long tag2);

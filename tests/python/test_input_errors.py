@@ -271,7 +271,7 @@ def test_bad_contactwork_arguments(tmp_path, case):
 
 
 BAD_BONDS_MODIFY = {
-    "unknown keyword": ("tally no", "fix_modify wirenet_bonds: unknown keyword 'tally' (expected damping_tally)"),
+    "unknown keyword": ("tally no", "fix_modify wirenet_bonds: unknown keyword 'tally' (expected damping_tally or scale)"),
     "no value": ("damping_tally", "fix_modify wirenet_bonds: expected 'fix_modify wirenet_bonds damping_tally yes|no'"),
     "not yes or no": ("damping_tally off", "fix_modify wirenet_bonds: damping_tally must be yes or no (got 'off')"),
 }

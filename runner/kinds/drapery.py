@@ -141,7 +141,8 @@ KEYS = (
     _drapery("settle_weight", "number", 64.0, "", "the mesh settles first under this many "
              "times its weight (damping and speed limit sqrt of it times theirs), then under its "
              "own to drapery.settle_speed: the same shape of wires that barely stretch, sooner "
-             "(no wire may yield or break meanwhile: settling.plastic_work)",
+             "with its wires as many times as strong (no wire may yield or break meanwhile: "
+             "settling.heavier_plastic_work)",
              "numerical (doc/drapery.md, \"A heavier mesh first\")", low=1.0, high=1000.0),
     _drapery("duration", "number", 3.0, "s", "simulated time after the release", EXAMPLE,
              low=0.0, low_open=True, high=100.0, quick=0.15),
@@ -474,14 +475,18 @@ def read_settling(workdir, case):
     """settling.csv (the deck's): when the settling ended, the mesh's rms speed then, and
     whether that was below drapery.settle_speed (else the settling ran its whole time)."""
     row = read_csv(os.path.join(workdir, "settling.csv"), required=(
-        "step", "time", "rms_speed", "still", "first_stage_time", "plastic_work", "broken"))
+        "step", "time", "rms_speed", "still", "first_stage_time", "plastic_work", "broken",
+        "heavier_plastic_work", "heavier_broken"))
     first = float(row["first_stage_time"][-1])
     return {"time": float(row["time"][-1]), "steps": int(row["step"][-1]),
             "rms_speed": float(row["rms_speed"][-1]), "still": bool(row["still"][-1]),
             "speed_limit": case["drapery.settle_speed"],
             "viscous": dissipation.SETTLE_VISCOUS, "weight": case["drapery.settle_weight"],
             "first_stage_time": first if first >= 0 else None,
-            "plastic_work": float(row["plastic_work"][-1]), "broken": int(row["broken"][-1])}
+            "plastic_work": float(row["plastic_work"][-1]), "broken": int(row["broken"][-1]),
+            # by the end of the last heavier stage (0 at settle_weight 1): the settling's own
+            "heavier_plastic_work": float(row["heavier_plastic_work"][-1]),
+            "heavier_broken": int(row["heavier_broken"][-1])}
 
 
 def read_table(workdir):
@@ -631,15 +636,15 @@ class Drapery(CaseKind):
         return 20
 
     def verdict(self, facts):
-        # a heavier settling that damaged the mesh first: nothing after it is the case's (under
-        # its own weight alone, a yield is the mesh's and the budget's to judge)
+        # heavier stages that damaged the mesh first: nothing after them is the case's (in the
+        # last stage, under its own weight, a yield is the mesh's and the budget's to judge)
         settle = facts.get("settling") or {}
-        damaged = settle.get("broken", 0) or settle.get("plastic_work", 0.0) > SETTLE_PLASTIC_WORK
-        if damaged and settle.get("weight", 1.0) > 1.0:
+        work, broken = settle.get("heavier_plastic_work", 0.0), settle.get("heavier_broken", 0)
+        if broken or work > SETTLE_PLASTIC_WORK:
             return (record.NOT_SETTLED, f"wires yielded or broke while the mesh settled under "
-                    f"up to {settle['weight']:g} times its weight (plastic work "
-                    f"{settle['plastic_work']:.3g} J, {settle['broken']} broken): the settled "
-                    f"mesh is not its own; lower drapery.settle_weight")
+                    f"up to {settle['weight']:g} times its weight (plastic work {work:.3g} J, "
+                    f"{broken} broken): the settled mesh is not its own; lower "
+                    f"drapery.settle_weight")
         load = facts.get("debris") or facts.get("block") or {}
         # round-off of the contacts' impulse on a load that never touched is far below this
         touched = facts["peak_block_force"] > CONTACT_FRACTION * load.get("mass", 0.0) * \

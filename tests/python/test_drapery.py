@@ -74,19 +74,23 @@ def test_a_mesh_that_rose_before_the_load_touched_it_is_not_settled(force, bulge
         assert "drapery.settle_time" in verdict[1] and "0.011 m" in verdict[1]
 
 
-@pytest.mark.parametrize("weight, plastic, broken, status", [
-    (64.0, 1e-17, 0, None), (64.0, 1e-3, 0, "not-settled"), (64.0, 0.0, 2, "not-settled"),
-    (64.0, 5074.0, 18, "not-settled"),   # the full example at 64 (its block never released long)
-    (1.0, 1e-3, 2, None)])               # under its own weight alone: the mesh's own yield
-def test_a_settling_that_yielded_wires_is_not_settled(weight, plastic, broken, status):
+@pytest.mark.parametrize("weight, plastic, broken, heavier, status", [
+    (64.0, 1e-17, 0, (1e-17, 0), None), (64.0, 1e-3, 0, (1e-3, 0), "not-settled"),
+    (64.0, 0.0, 2, (0.0, 2), "not-settled"),
+    (64.0, 5074.0, 18, (5074.0, 18), "not-settled"),   # the full example at 64, wires unscaled
+    (64.0, 1e-3, 2, (1e-17, 0), None),   # yielded in the last stage: under its own weight
+    (1.0, 1e-3, 2, (0.0, 0), None)])     # under its own weight alone: the mesh's own yield
+def test_a_settling_that_yielded_wires_is_not_settled(weight, plastic, broken, heavier, status):
     """The heavier stages of the settling must leave every wire elastic: a settled mesh whose
-    wires yielded or broke under 64 times its weight is not its own (round-off passes); under
-    its own weight only, a yield is the mesh's, not the settling's."""
+    wires yielded or broke under 64 times its weight is not its own (round-off passes); in the
+    last stage, under its own weight, a yield is the mesh's, not the settling's."""
     case = casefile.read(str(EXAMPLE), quick=True)
     force = 0.0 if broken == 18 else 100.0      # a settling that broke wires comes first
+    settling = dict(weight=weight, plastic_work=plastic, broken=broken,
+                    heavier_plastic_work=heavier[0], heavier_broken=heavier[1])
     facts = dict(peak_block_force=force, block=dict(mass=500.0), gravity=9.81, bulge_peak=0.1,
                  before_contact=dict(time=0.1, bulge=0.0), energy=dict(closure_error=0.0),
-                 momentum=None, settling=dict(weight=weight, plastic_work=plastic, broken=broken))
+                 momentum=None, settling=settling)
     verdict = drapery.Drapery(case).verdict(facts)
     assert (verdict[0] if verdict else None) == status
     if status:
@@ -216,6 +220,7 @@ def test_quick_example_settles_in_stages_to_a_still_mesh(quick_example):
     assert m["status"] == "ok" and settle["still"] and settle["rms_speed"] < 1e-3
     assert settle["weight"] == 64.0 and 0 < settle["first_stage_time"] < settle["time"] < 1.8
     assert settle["broken"] == 0 and abs(settle["plastic_work"]) < drapery.SETTLE_PLASTIC_WORK
+    assert settle["heavier_broken"] == 0 and abs(settle["heavier_plastic_work"]) < drapery.SETTLE_PLASTIC_WORK
     log = (quick_example / "drapery" / "run" / "log.lammps").read_text()
     assert [float(w) for w in re.findall(r"still under (\S+) times the weight", log)] == \
         pytest.approx([64.0, 16.0, 4.0])

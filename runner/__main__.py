@@ -44,8 +44,9 @@ def build_parser():
     run.add_argument("--np", type=_ranks, default=None, metavar="N",
                      help="cores to use (default: WIRENET_NP, else the machine's cores as nproc "
                           "counts them): one case runs on N MPI ranks (a punch's run and its 4x "
-                          "slower twin side by side on N/2 each); a study runs its cases side by "
-                          "side, one rank each (two for a punch and its twin)")
+                          "slower twin side by side on N/2 each, an odd one more for the run); "
+                          "a study runs its cases side by side, one rank each (two for a punch "
+                          "and its twin)")
     run.add_argument("--partitions", type=_ranks, default=None, metavar="M",
                      help="run M cases (an ensemble's members) at a time as the partitions of "
                           "one LIGGGHTS multi-partition job (mpirun -np N liggghts -partition "

@@ -376,7 +376,8 @@ def preload_facts(workdir):
 
 class Pair:
     """The case at the chosen rate (case_dir/run) and, with the quasi-static check, four times
-    slower (case_dir/slow), side by side: two processes sharing the ranks, at least one each.
+    slower (case_dir/slow), side by side: two processes sharing the ranks, at least one each
+    (an odd rank count gives the run the extra one: it is the longer of the two).
     The twin does not repeat the pre-load: the run writes run/preload.restart once its pre-load
     is done and the twin starts from it (the same panel to the last bit). While the run
     pre-loads alone, the twin's ranks are lent back to the study. ``ctx.start_from``: another
@@ -391,11 +392,14 @@ class Pair:
         self.restart = ctx.start_from or os.path.join(ctx.case_dir, "run", "preload.restart")
         names = ["run"] + (["slow"] if setup.quasi_static else [])
         self.threads = {n: threading.Thread(target=self._one, args=(n,)) for n in names}
-        self.ranks = max(ctx.ranks // len(names), 1)
+        twin = max(ctx.ranks // 2, 1) if len(names) > 1 else 0
+        self.ranks = {"run": max(ctx.ranks - twin, 1)}
+        if twin:
+            self.ranks["slow"] = twin
 
     def run(self):
         if len(self.threads) > 1 and not self.ctx.start_from:
-            self.ctx.lend(self.ranks)        # the twin waits for the run's pre-load
+            self.ctx.lend(self.ranks["slow"])  # the twin waits for the run's pre-load
         for t in self.threads.values():
             t.start()
         for t in self.threads.values():
@@ -420,7 +424,7 @@ class Pair:
         with self.lock:       # the first of the two to finish lends its ranks to the study
             self.done.append(name)
             if len(self.done) < len(self.threads):
-                self.ctx.lend(self.ranks)
+                self.ctx.lend(self.ranks[name])
 
     def _wait_for_preload(self):
         """True once the run has written its restart (its progress scan saw the line after
@@ -429,7 +433,7 @@ class Pair:
         while not self.preloaded.wait(0.5) and run.is_alive():
             pass
         if self.preloaded.is_set() or "run" in self.results:
-            self.ctx.lend(-self.ranks)
+            self.ctx.lend(-self.ranks["slow"])
             return True
         return False
 
@@ -452,7 +456,7 @@ class Pair:
         try:
             # the pre-load's length is not known in advance (it relaxes until the sag settles);
             # the deck restarts the step count at 0 after the line PRELOAD_MARKER
-            wall = engine.run(INPUTS / "punch.in", workdir, variables, np=self.ranks,
+            wall = engine.run(INPUTS / "punch.in", workdir, variables, np=self.ranks[name],
                               total_steps=steps, label=name, dt=s.dt,
                               phase_marker=PRELOAD_MARKER,
                               marker_seen=None if slow else self.preloaded)

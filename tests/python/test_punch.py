@@ -16,6 +16,7 @@ module:
 import csv
 import json
 import os
+import re
 
 import numpy as np
 import pytest
@@ -232,6 +233,44 @@ def test_twin_from_the_runs_preload_is_the_twin_with_its_own(case, tmp_path):
     assert own == shared
     assert "as left in" in (folder / "slow" / "log.lammps").read_text()
     assert not (folder / "run" / "preload.restart").exists()
+
+
+def grid(log):
+    """The processor grid a LIGGGHTS log reports, as integers."""
+    match = re.search(r"(\d+) by (\d+) by (\d+) MPI processor grid", log)
+    assert match, "no processor grid in the log"
+    return [int(g) for g in match.groups()]
+
+
+@pytest.mark.parametrize("np_", [3, 4])
+def test_three_and_four_ranks_agree(case, tmp_path, np_):
+    """The run alone (no twin) on 3 and 4 ranks (materials.in's "* * 1": 3 by 1 and 2 by 2)
+    gives the 1-rank force curve within 1e-4 of its peak (the same sums in another order;
+    1.2e-5 seen) at every travel, and the same first rupture."""
+    folder, facts = case
+    many = api.run(quick_case(SQUARE_CONE, "punch.quasi_static_check=false"), str(tmp_path),
+                   ranks=np_)
+    shape = grid((tmp_path / "run" / "log.lammps").read_text())
+    assert np.prod(shape) == np_ and shape[2] == 1
+    ref = punch.read_table(str(folder / "run"))
+    run = punch.read_table(str(tmp_path / "run"))
+    assert len(run["force"]) > 10
+    inside = run["displacement"] <= ref["displacement"][-1]
+    gap = np.abs(run["force"][inside] - np.interp(run["displacement"][inside],
+                                                   ref["displacement"], ref["force"]))
+    assert gap.max() < 1e-4 * ref["force"].max(), gap.max()
+    first = [(f["first_rupture"] or {}).get("step") for f in (facts, many)]
+    assert first[0] == first[1], first
+
+
+def test_an_odd_rank_count_gives_the_run_the_extra_rank(tmp_path):
+    """On 3 ranks the run (the longer of the pair) gets 2 and its 4x slower twin 1, so no rank
+    is idle (runner/kinds/punch.Pair)."""
+    api.run(quick_case(), str(tmp_path), ranks=3)
+    for name, procs in (("run", 2), ("slow", 1)):
+        log = (tmp_path / name / "log.lammps").read_text()
+        assert re.search(rf"Loop time of \S+ on {procs} procs", log), name
+        assert np.prod(grid(log)) == procs, name
 
 
 @pytest.mark.parametrize("kind_text, check, status", [

@@ -35,6 +35,7 @@ class FixWirenetBalance : public Fix {
   bool reported;           // the first balance is written to the screen and log, the others not
 
   double imbalance_now() const;
+  void sort_by_tag();
   void quantile_cuts(int dim, std::vector<double> &split) const;
 };
 

@@ -304,12 +304,13 @@ def test_a_small_strip_settles_still_and_its_bulge_is_the_blocks(small_strip_one
 @pytest.mark.parametrize("np_", [2, 4])
 def test_the_small_strip_on_two_and_four_ranks(small_strip_one_rank, tmp_path, np_):
     """The drapery deck on 2 and 4 ranks (materials.in's "* * 1": 2 by 1 and 2 by 2, the cuts
-    balanced by fix wirenet/balance xy): the same settling (its checks end at the same step),
-    the block at the same place at the end (0.03 mm apart seen), the top row's peak load within
-    2 % (0.7 % seen) and the peak bulge within 10 % (1.6 % and 3.5 % seen), the budget closed.
-    Not the single anchors' peaks nor a tighter bulge: the block tumbling down the slope makes
-    both spikes that runs differing in round-off place apart (without the balance 2 and 4 ranks
-    gave bulges 0.2 % and 4.6 % off, the top anchors' peak 10 % and 1 %)."""
+    balanced by fix wirenet/balance xy): the same settling (still at the same check or the next),
+    the block at the same place at the end (0.03-0.13 mm apart seen), the top row's peak load
+    within 2 % (0.01-1.1 % seen) and the peak bulge within 10 % (0.3-3.5 % seen over the atom
+    orders tried), the budget closed. Not the single anchors' peaks nor a tighter bulge: the
+    block tumbling down the slope makes both spikes that runs differing in round-off place
+    apart (without the balance 2 and 4 ranks gave bulges 0.2 % and 4.6 % off, the top anchors'
+    peak 10 % and 1 %)."""
     _, one = small_strip_one_rank
     m = small_strip(tmp_path, np_)
     log = (tmp_path / "drapery" / "run" / "log.lammps").read_text()
@@ -320,7 +321,9 @@ def test_the_small_strip_on_two_and_four_ranks(small_strip_one_rank, tmp_path, n
     assert balance and float(balance.group(2)) < 1.05, balance
     assert float(balance.group(2)) <= float(balance.group(1))
     assert m["status"] == one["status"] == "ok"
-    assert m["settling"]["steps"] == one["settling"]["steps"] and m["settling"]["still"]
+    # still at the same check or the next (its rms speed ends near the limit: 1.93 mm/s of 2)
+    assert m["settling"]["still"]
+    assert abs(m["settling"]["time"] - one["settling"]["time"]) < 1.01 * drapery.SETTLE_CHECK
     for axis in ("across", "up", "off"):
         assert abs(m["block_end"][axis] - one["block_end"][axis]) < 1e-3, axis
     assert m["top_row_force_peak"] == pytest.approx(one["top_row_force_peak"], rel=0.02)

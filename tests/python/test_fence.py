@@ -263,10 +263,11 @@ def test_three_and_four_ranks_agree(short_one_rank, tmp_path_factory, np_):
     """The fence's grid (fence.in procs "* 1 1") cuts along the fence only, on any rank count,
     and fix wirenet/balance moves the cuts to the atoms' quantiles (uniform cuts gave the
     busiest rank 2.62 and 2.01 times the mean on 3 and 4 ranks: the lateral anchors' slabs hold
-    a few atoms each); the settling's rows and the impact agree with 1 rank: the block's path to 3e-3 of its
-    travel (sums of forces in another order: round-off grows through the contact; 1.1e-3 seen),
-    the anchors and post bases within 1 % of their peaks, the same ruptures, the budget closed,
-    and the fence's dissipators at work."""
+    a few atoms each); the settling's rows and the impact agree with 1 rank: the block's path to
+    3e-3 of its travel (sums of forces in another order: round-off grows through the contact;
+    0.75e-3 to 1.1e-3 seen), the anchors and post bases within 2 % of their peaks (0.6 % to
+    1.1 % seen over the atom orders tried), the same ruptures, the budget closed, and the
+    fence's dissipators at work."""
     out1, one = short_one_rank
     folder = tmp_path_factory.mktemp(f"fence_short_np{np_}")
     meta, out = settle(folder, np=np_, steps=SHORT_SETTLE, impact_steps=SHORT_IMPACT)
@@ -294,7 +295,7 @@ def test_three_and_four_ranks_agree(short_one_rank, tmp_path_factory, np_):
         peak = max(np.max(np.abs(one[f"{part}_{a}"])) for a in "xyz")
         for a in "xyz":
             column = f"{part}_{a}"
-            assert np.max(np.abs(one[column] - t[column])) < 0.01 * peak, column
+            assert np.max(np.abs(one[column] - t[column])) < 0.02 * peak, column
     terms, _, _, error = budget.energy_budget(t, fence.BUDGET)
     assert np.max(np.abs(error)) < 1e-3
     assert terms["w_plastic"][-1] > 0 and terms["friction"][-1] > 0

@@ -13,7 +13,6 @@
 #include "fix_wirenet_balance.h"
 
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
@@ -26,7 +25,6 @@
 #include "error.h"
 #include "irregular.h"
 #include "mpi.h"
-#include "update.h"
 
 using namespace LAMMPS_NS;
 using namespace FixConst;

@@ -75,3 +75,11 @@ def test_a_periodic_dimension_is_refused(tmp_path):
     text = text.replace("boundary f f f", "boundary f p f")
     error = lmp.one_error(text, tmp_path)
     assert "fix wirenet/balance: dimension y is periodic" in error, error
+
+
+def test_a_triclinic_box_is_refused(tmp_path):
+    rope_data(tmp_path / "rope.data", box_x=BOX_X)
+    text = deck(["change_box all triclinic", "fix bal all wirenet/balance x"], steps=10,
+                shake=False)
+    error = lmp.one_error(text, tmp_path)
+    assert "fix wirenet/balance: needs an orthogonal box" in error, error

@@ -194,8 +194,7 @@ def test_the_fence_stops_the_block(impact):
     assert vn[0] == pytest.approx(-BLOCK["speed"], rel=1e-9)
     turn = np.nonzero(vn > 0)[0]
     assert turn.size                                   # it rebounds
-    depth = (t["x"][0] - t["x"]) * n[0] + (t["y"][0] - t["y"]) * n[1] + (t["z"][0] - t["z"]) * n[2]
-    assert 0.2 < depth[turn[0]] < 1.5                  # braking distance (m): inside the 2 m module
+    assert 0.2 < depth(t, n)[turn[0]] < 1.5           # braking distance (m): inside the 2 m module
     assert t["broken"][-1] == 0
 
 
@@ -204,6 +203,12 @@ def impact_two_ranks(tmp_path_factory):
     folder = tmp_path_factory.mktemp("fence_np2")
     _, out = settle(folder, np=2)
     return fence.read_table(folder), out
+
+
+def depth(t, normal):
+    """The block's travel into the fence along its normal from its start, per row (m)."""
+    n = np.asarray(normal)
+    return (t["x"][0] - t["x"]) * n[0] + (t["y"][0] - t["y"]) * n[1] + (t["z"][0] - t["z"]) * n[2]
 
 
 def peak_load(t, part):
@@ -227,13 +232,8 @@ def test_two_ranks_agree(impact, impact_two_ranks):
     two, out = impact_two_ranks
     assert "2 by 1 by 1 MPI processor grid" in out
     assert list(one["step"]) == list(two["step"])
-    n = np.asarray(meta["normal"])
-
-    def depth(t):
-        return (t["x"][0] - t["x"]) * n[0] + (t["y"][0] - t["y"]) * n[1] + (t["z"][0] - t["z"]) * n[2]
-
-    travel = np.max(depth(one))
-    assert np.max(depth(two)) == pytest.approx(travel, rel=1e-2)
+    travel = np.max(depth(one, meta["normal"]))
+    assert np.max(depth(two, meta["normal"])) == pytest.approx(travel, rel=1e-2)
     gap = np.sqrt(sum((one[a] - two[a]) ** 2 for a in "xyz"))
     assert np.max(gap) < 1.5e-2 * travel
     for part in ("anchors", "bases"):
@@ -286,9 +286,7 @@ def test_three_and_four_ranks_agree(short_one_rank, tmp_path_factory, np_):
         assert abs(a["rz"] - b["rz"]) < 0.01 * weight
     t = fence.read_table(folder)
     assert list(one["step"]) == list(t["step"])
-    n = np.asarray(meta["normal"])
-    travel = np.max(np.abs((one["x"] - one["x"][0]) * n[0] + (one["y"] - one["y"][0]) * n[1]
-                           + (one["z"] - one["z"][0]) * n[2]))
+    travel = np.max(np.abs(depth(one, meta["normal"])))
     gap = np.sqrt(sum((one[a] - t[a]) ** 2 for a in ("x", "y", "z")))
     assert np.max(gap) < 3e-3 * travel
     for part in ("anchors", "bases"):

@@ -282,7 +282,7 @@ void BondWirenet::build_list()
       }
       if (e.h[FixWirenetBonds::L0] < 0.0) continue;  // broken, awaiting removal
       BeamConst<double> b;
-      beams[type]->prepare(e.h, b);
+      beams[type]->prepare(e.h, b, law_scale);
       if (beams[type]->has_section()) {  // no damping, no strength (refused by the law)
         sections.push_back({ b, BeamSection<double>(), i, j, m, type });
         beams[type]->prepare_section(e.h, sections.back().s);

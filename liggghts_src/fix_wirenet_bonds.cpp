@@ -347,9 +347,10 @@ void FixWirenetBonds::end_of_step()
 // tally's half-step bookkeeping (BondWirenet::tally_damping), so switching it on loses nothing
 // of the steps after it.
 // fix_modify wirenet_bonds scale S: the wire and brake laws at S times their scale from the next
-// run on (WireLaw::prepare); every wire bond's state goes from the old scale to S, so a bond
-// keeps its place on its envelope: under S times the loads a net is as far from yield and
-// rupture as under its own (a settling under a heavier weight, doc/fix_wirenet_bonds.md).
+// run on (WireLaw::prepare), the beams' strengths S times (BeamLaw::prepare); every wire bond's
+// state goes from the old scale to S, so a bond keeps its place on its envelope: under S times
+// the loads a net is as far from yield and rupture as under its own (a settling under a heavier
+// weight, doc/fix_wirenet_bonds.md).
 int FixWirenetBonds::modify_param(int narg, char **arg)
 {
   const bool tally = strcmp(arg[0], "damping_tally") == 0;

@@ -138,7 +138,7 @@ void BeamLaw::init_bond(double *h, const Vector3d &xi, const Vector3d &xj, const
   store3(h + B_PJ, rj.transpose() * n);
 }
 
-void BeamLaw::prepare(const double *h, BeamConst<double> &b) const
+void BeamLaw::prepare(const double *h, BeamConst<double> &b, double scale) const
 {
   const double l0 = h[B_L0];
   const Stiffness k = stiffness(l0);
@@ -148,12 +148,13 @@ void BeamLaw::prepare(const double *h, BeamConst<double> &b) const
   b.km = k.shear_coupling - k.bending;
   b.kf = 2.0 * k.shear_coupling;
   b.kt = k.twist;
-  // strength of the geometric section of diameter D, whatever the stiffness fractions
+  // strength of the geometric section of diameter D, whatever the stiffness fractions, S times
   const double R = 0.5 * p_.diameter;
-  b.sa = p_.strength ? 1.0 / (area_ * p_.sigma_t) : 0.0;
-  b.sm = p_.strength ? R / (inertia_ * p_.sigma_t) : 0.0;
-  b.ss = p_.strength ? 1.0 / (area_ * p_.tau_c) : 0.0;
-  b.st = p_.strength ? R / (polar_ * p_.tau_c) : 0.0;
+  const double st = scale * p_.sigma_t, sc = scale * p_.tau_c;
+  b.sa = p_.strength ? 1.0 / (area_ * st) : 0.0;
+  b.sm = p_.strength ? R / (inertia_ * st) : 0.0;
+  b.ss = p_.strength ? 1.0 / (area_ * sc) : 0.0;
+  b.st = p_.strength ? R / (polar_ * sc) : 0.0;
   b.ca = b.cs = b.cb = b.ct = 0.0;  // set_damping() with the node masses
   for (int c = 0; c < 3; c++) {
     b.di[c] = h[B_DI + c];

@@ -113,8 +113,9 @@ class BeamLaw {
   using Rotation = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>;
   void init_bond(double *h, const Eigen::Vector3d &xi, const Eigen::Vector3d &xj,
                  const Rotation &ri, const Rotation &rj) const;
-  // the constants of an initialised record
-  void prepare(const double *h, BeamConst<double> &b) const;
+  // the constants of an initialised record, for the law at `scale` S (fix_modify wirenet_bonds
+  // scale): a linear law is its own magnification S F(u / S), so S scales the strengths alone
+  void prepare(const double *h, BeamConst<double> &b, double scale = 1.0) const;
   // a general section (has_section()): the anisotropic constants of an initialised record
   void prepare_section(const double *h, BeamSection<double> &s) const;
   bool has_section() const { return p_.section; }

@@ -135,3 +135,36 @@ def test_restart_before_rupture_breaks_at_the_same_step(tmp_path):
     rows = lmp.thermo_rows(lmp.run_deck(resume + outputs("tension") + "run 10000\n", wd, name="in.resume"))
     s, b, _ = break_step(rows)
     assert s == step and b == before
+
+
+SCALE = 2.5   # not a power of two: the strengths' products are rounded
+
+
+@pytest.mark.parametrize("mode", sorted(MODES))
+def test_at_a_scale_the_strength_is_s_times(tmp_path, mode):
+    """fix_modify wirenet_bonds scale S: the beam law is linear, its magnification S F(u / S) is the
+    law itself with S times the strengths; driven as before, the bond breaks at S times the limit."""
+    write_pair(tmp_path / "pair.data")
+    deck = pair_setup(mode) + "run 0\n" + f"fix_modify wirenet_bonds scale {SCALE!r}\n" + outputs(mode) + \
+        f"run {int(16000 * SCALE)}\n"
+    rows = [r for r in lmp.thermo_rows(lmp.run_deck(deck, tmp_path)) if "nb" in r]   # not run 0's
+    _, before, at = break_step(rows)
+    limit = SCALE * MODES[mode][2]
+    assert 0.0 <= (limit - abs(before)) / limit < 1e-3, (mode, before, limit)
+    assert at == 0.0
+
+
+def test_back_at_scale_one_the_strength_is_the_beams(tmp_path):
+    """Loaded at scale S to 1.5 times the strength at scale 1 and intact, then at scale 1: the bond
+    breaks at the next force evaluation, the set-up of the run at scale 1 (its load is above its
+    own strength), not later."""
+    write_pair(tmp_path / "pair.data")
+    steps_to_limit = SIGMA_T * L0 / E / (V_PULL * DT)   # F = EA u / L0 = SIGMA_T A
+    first = int(1.5 * steps_to_limit)
+    deck = pair_setup("tension") + "run 0\n" + f"fix_modify wirenet_bonds scale {SCALE!r}\n" + \
+        outputs("tension") + f"run {first}\nfix_modify wirenet_bonds scale 1\nrun 10\n"
+    rows = [r for r in lmp.thermo_rows(lmp.run_deck(deck, tmp_path)) if "nb" in r]
+    scaled, unscaled = rows[:first + 1], rows[first + 1:]   # run 1: steps 0..first; run 2: first..
+    assert scaled[-1]["Step"] == first and unscaled[0]["Step"] == first
+    assert scaled[-1]["nb"] == 0 and abs(scaled[-1]["load"]) > 1.4 * SIGMA_T * A
+    assert unscaled[0]["nb"] == 1 and unscaled[0]["load"] == 0.0

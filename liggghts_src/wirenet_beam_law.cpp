@@ -150,11 +150,11 @@ void BeamLaw::prepare(const double *h, BeamConst<double> &b, double scale) const
   b.kt = k.twist;
   // strength of the geometric section of diameter D, whatever the stiffness fractions, S times
   const double R = 0.5 * p_.diameter;
-  const double st = scale * p_.sigma_t, sc = scale * p_.tau_c;
-  b.sa = p_.strength ? 1.0 / (area_ * st) : 0.0;
-  b.sm = p_.strength ? R / (inertia_ * st) : 0.0;
-  b.ss = p_.strength ? 1.0 / (area_ * sc) : 0.0;
-  b.st = p_.strength ? R / (polar_ * sc) : 0.0;
+  const double sigma = scale * p_.sigma_t, tau = scale * p_.tau_c;
+  b.sa = p_.strength ? 1.0 / (area_ * sigma) : 0.0;
+  b.sm = p_.strength ? R / (inertia_ * sigma) : 0.0;
+  b.ss = p_.strength ? 1.0 / (area_ * tau) : 0.0;
+  b.st = p_.strength ? R / (polar_ * tau) : 0.0;
   b.ca = b.cs = b.cb = b.ct = 0.0;  // set_damping() with the node masses
   for (int c = 0; c < 3; c++) {
     b.di[c] = h[B_DI + c];

@@ -8,7 +8,8 @@
    the atoms on either side of it. The grid stays a tensor product
    of 1-d cuts (the layout LIGGGHTS' Comm already handles as `uniform = 0`); the atoms move to
    their new owners by Irregular::migrate_atoms, the fixes' per-atom data with them (contact
-   history is packed by fix contacthistory's own pre_exchange, which Modify calls first). */
+   history is packed by fix contacthistory's own pre_exchange, which Modify calls first), in the
+   order of their senders' ranks (LIGGGHTS patch 0015), so that a balanced run repeats itself. */
 
 #include "fix_wirenet_balance.h"
 
@@ -19,7 +20,6 @@
 #include <string>
 
 #include "atom.h"
-#include "atom_vec.h"
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
@@ -95,7 +95,6 @@ void FixWirenetBalance::setup_pre_exchange()
   domain->set_local_box();
   Irregular irregular(lmp);
   irregular.migrate_atoms();
-  sort_by_tag();
 
   imbalance[1] = imbalance_now();
   if (!reported && comm->me == 0) {
@@ -106,37 +105,6 @@ void FixWirenetBalance::setup_pre_exchange()
     if (logfile) fputs(line, logfile);
   }
   reported = true;
-}
-
-// Irregular learns its senders with MPI_ANY_SOURCE, so the received atoms come in the order the
-// messages arrived: a run on N ranks would not repeat itself (its sums in another order). The
-// local atoms in ascending tag order make the order, and the run, reproducible. A permutation in
-// place as Atom::sort does it (avec->copy moves the fixes' per-atom data along).
-void FixWirenetBalance::sort_by_tag()
-{
-  const int nlocal = atom->nlocal;
-  if (nlocal == atom->nmax) atom->avec->grow(0);    // the spare slot at the end for the cycles
-  const int *tag = atom->tag;
-  std::vector<int> permute(nlocal), current(nlocal);
-  for (int i = 0; i < nlocal; i++) permute[i] = current[i] = i;
-  // permute[I] = J: the I-th atom in the new order is the J-th now
-  std::sort(permute.begin(), permute.end(), [tag](int a, int b) { return tag[a] < tag[b]; });
-  AtomVec *avec = atom->avec;
-  for (int i = 0; i < nlocal; i++) {
-    if (current[i] == permute[i]) continue;
-    avec->copy(i, nlocal, 0);
-    int empty = i;
-    while (permute[empty] != i) {
-      avec->copy(permute[empty], empty, 0);
-      empty = current[empty] = permute[empty];
-    }
-    avec->copy(nlocal, empty, 0);
-    current[empty] = permute[empty];
-  }
-  if (atom->map_style) {
-    atom->map_clear();
-    atom->map_set();
-  }
 }
 
 // largest rank's count of group atoms over the mean count (1: balanced)

@@ -35,7 +35,6 @@ class FixWirenetBalance : public Fix {
   bool reported;           // the first balance is written to the screen and log, the others not
 
   double imbalance_now() const;
-  void sort_by_tag();
   void quantile_cuts(int dim, std::vector<double> &split) const;
 };
 

@@ -258,6 +258,19 @@ def short_one_rank(tmp_path_factory):
     return out, fence.read_table(folder)
 
 
+def test_a_balanced_run_repeats_itself(tmp_path_factory):
+    """Two runs of the short fence on 3 ranks, its cuts moved by fix wirenet/balance, give the same
+    fence.csv byte for byte: LIGGGHTS' Irregular receives the moved atoms in its senders' rank
+    order (patch 0015), not in the order their messages arrived (without the patch 2 of 2 pairs
+    differed)."""
+    runs = []
+    for k in range(2):
+        folder = tmp_path_factory.mktemp(f"fence_repeat{k}")
+        settle(folder, np=3, steps=SHORT_SETTLE, impact_steps=SHORT_IMPACT)
+        runs.append((folder / "fence.csv").read_bytes())
+    assert runs[0] == runs[1]
+
+
 @pytest.mark.parametrize("np_", [3, 4])
 def test_three_and_four_ranks_agree(short_one_rank, tmp_path_factory, np_):
     """The fence's grid (fence.in procs "* 1 1") cuts along the fence only, on any rank count,
